@@ -1,0 +1,205 @@
+#include "app/render_command.h"
+
+#include "app/progress_bar.h"
+#include "core/lua/scene_loader.h"
+#include "core/png_io.h"
+#include "core/render_session.h"
+#include "core/source_location.h"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+#include <unistd.h>
+
+namespace caustica {
+namespace {
+
+std::atomic<bool> interrupted{false};
+
+extern "C" void on_interrupt(int) {
+    if (interrupted.exchange(true)) ::_exit(exit_interrupted);  // a second Ctrl-C: leave at once
+}
+
+struct RenderArguments {
+    std::vector<std::string> option_tokens;  ///< everything but the scene and -o
+    std::string scene;
+    std::string output;                       ///< -o, or "" for the names the script gives
+    bool help = false;
+};
+
+RenderArguments parse_arguments(const std::vector<std::string>& args) {
+    RenderArguments parsed;
+    std::vector<std::string> tokens;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "-h" || a == "--help") {
+            parsed.help = true;
+        } else if (a == "-o" || a == "--output") {
+            if (i + 1 >= args.size()) throw InputError(a + ": expects a file name");
+            parsed.output = args[++i];
+        } else if (a.rfind("--output=", 0) == 0) {
+            parsed.output = a.substr(9);
+        } else {
+            tokens.push_back(a);
+        }
+    }
+    if (parsed.help) return parsed;
+    std::vector<std::string> positional;
+    Options check;
+    apply_option_tokens(check, tokens, &positional);  // validates every option before any work
+    if (positional.empty()) throw InputError("render: no scene file given (usage: caustica render [options] SCENE.lua)");
+    if (positional.size() > 1) throw InputError("render: one scene at a time, got '" + positional[0] + "' and '" + positional[1] + "'");
+    parsed.scene = positional[0];
+    for (const std::string& t : tokens)
+        if (t != parsed.scene) parsed.option_tokens.push_back(t);
+    if (!parsed.output.empty() && std::filesystem::path(parsed.output).extension() != ".png")
+        throw InputError("-o " + parsed.output + ": the output must be a .png file");
+    return parsed;
+}
+
+/// The file a render job writes: -o (numbered when the script renders several), else the script's.
+std::string output_path(const RenderArguments& args, const RenderJob& job, std::size_t index, std::size_t count) {
+    if (args.output.empty()) return job.output;
+    if (count == 1) return args.output;
+    std::filesystem::path p(args.output);
+    return (p.parent_path() / (p.stem().string() + "-" + std::to_string(index + 1) + p.extension().string())).string();
+}
+
+void check_writable(const std::string& path, const RenderJob& job) {
+    std::filesystem::path p(path);
+    if (p.extension() != ".png") throw InputError(job.where, "gr.render: output '" + path + "' must end in .png");
+    std::filesystem::path dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
+    if (!std::filesystem::is_directory(dir))
+        throw InputError(job.where, "gr.render: cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
+    if (::access(dir.c_str(), W_OK) != 0)
+        throw InputError(job.where, "gr.render: cannot write '" + path + "': folder '" + dir.string() + "' is not writable");
+}
+
+void print_stats(const RenderStats& stats, bool timing, bool statistics) {
+    if (timing) {
+        std::fprintf(stderr, "stage times:\n");
+        for (const StageTime& s : stats.stages)
+            std::fprintf(stderr, "  %-22s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? "  (cached)" : "");
+        std::fprintf(stderr, "  %-22s %9.3f s\n", "total", stats.total_seconds);
+    }
+    if (statistics) {
+        const RayCounters& r = stats.rays;
+        const double seconds = stats.total_seconds > 0 ? stats.total_seconds : 1e-9;
+        std::fprintf(stderr, "statistics:\n");
+        std::fprintf(stderr, "  threads                %9d\n", stats.threads);
+        std::fprintf(stderr, "  analytic primitives    %9zu\n", stats.analytic_primitives);
+        std::fprintf(stderr, "  mesh instances         %9zu (%zu meshes, %zu triangles stored, %zu in the world)\n",
+                     stats.mesh_instances, stats.unique_meshes, stats.triangles_stored, stats.triangles_instanced);
+        std::fprintf(stderr, "  camera samples         %9llu\n", static_cast<unsigned long long>(r.samples));
+        std::fprintf(stderr, "  anti-aliased pixels    %9llu\n", static_cast<unsigned long long>(r.supersampled_pixels));
+        std::fprintf(stderr, "  rays: primary          %9llu\n", static_cast<unsigned long long>(r.primary));
+        std::fprintf(stderr, "        shadow           %9llu\n", static_cast<unsigned long long>(r.shadow));
+        std::fprintf(stderr, "        reflected        %9llu\n", static_cast<unsigned long long>(r.reflected));
+        std::fprintf(stderr, "        refracted        %9llu\n", static_cast<unsigned long long>(r.refracted));
+        std::fprintf(stderr, "        total            %9llu (%.2f M rays/s)\n",
+                     static_cast<unsigned long long>(r.total_rays()), r.total_rays() / seconds * 1e-6);
+        for (const StageTime& s : stats.stages)
+            std::fprintf(stderr, "  time: %-16s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? " (cached)" : "");
+    }
+}
+
+/// Renders one job to completion (or interruption) and writes its PNG. Returns an exit code.
+int render_job(RenderSession& session, const RenderJob& job, const std::string& scene_path, const std::string& path) {
+    const Options& o = job.options;
+    session.set_job(job);
+    if (o.verbose && !o.silent)
+        std::fprintf(stderr, "%s: rendering %s (%d x %d)\n", job.where.str().c_str(), path.c_str(),
+                     o.resolution_override ? o.resolution_override : job.width,
+                     o.resolution_override ? o.resolution_override : job.height);
+    session.start();
+    ProgressBar bar(!o.silent);
+    for (;;) {
+        const SessionProgress p = session.progress();
+        if (!p.running) break;
+        if (interrupted) session.cancel();
+        bar.update(p.tiles_total ? double(p.tiles_done) / double(p.tiles_total) : 0.0, p.elapsed_seconds, p.stage);
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    bar.finish();
+    const bool complete = session.wait();  // rethrows scene errors found while preparing
+    if (!o.silent)
+        for (const std::string& w : session.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (!complete || interrupted) {
+        if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
+        return exit_interrupted;
+    }
+    const RenderStats stats = session.stats();
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.3f", stats.total_seconds);
+    write_png_atomic(path, session.image(), o.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear,
+                     {{"Software", "caustica " CAUSTICA_VERSION},
+                      {"Source", scene_path},
+                      {"caustica:options", describe_non_default(o)},
+                      {"caustica:render-seconds", seconds}});
+    print_stats(stats, o.timing, o.stats);
+    if (!o.silent)
+        std::printf("wrote %s (%d x %d, %.2f s)\n", path.c_str(), session.image().width, session.image().height,
+                    stats.total_seconds);
+    return exit_ok;
+}
+
+}  // namespace
+
+std::string render_help() {
+    return "usage: caustica render [options] SCENE.lua [-o OUT.png]\n"
+           "\n"
+           "Runs the scene script and renders every gr.render it calls. Without -o each render\n"
+           "writes the file the script names, relative to the current folder; with -o a single\n"
+           "render writes OUT.png and several write OUT-1.png, OUT-2.png, ...\n"
+           "Options may also be set in the scene with gr.option('--flag ...'); the command line wins.\n"
+           "Exit codes: 0 success, 1 output could not be written, 2 scene or usage error, 130 interrupted.\n" +
+           options_help();
+}
+
+int run_render_command(const std::vector<std::string>& args) {
+    RenderArguments parsed = parse_arguments(args);
+    if (parsed.help) {
+        std::printf("%s", render_help().c_str());
+        return exit_ok;
+    }
+    Options command_line;
+    apply_option_tokens(command_line, parsed.option_tokens);
+    if (!std::filesystem::is_regular_file(parsed.scene))
+        throw InputError(parsed.scene + ": no such scene file");
+
+    std::signal(SIGINT, on_interrupt);
+    std::signal(SIGTERM, on_interrupt);
+    LoadSettings settings;
+    settings.timeout_seconds = command_line.script_timeout;
+    settings.cancel = &interrupted;
+    SceneScript script;
+    try {
+        script = load_scene_script(parsed.scene, settings);
+    } catch (const ScriptCancelled&) {
+        std::fprintf(stderr, "caustica: interrupted while running %s\n", parsed.scene.c_str());
+        return exit_interrupted;
+    }
+    if (!command_line.silent)
+        for (const std::string& w : script.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (script.renders.empty()) throw InputError(parsed.scene + ": the script calls no gr.render; nothing to render");
+
+    // The command line wins over gr.option: re-apply its tokens on top of each job's options.
+    std::vector<RenderJob> jobs = script.renders;
+    std::vector<std::string> paths;
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        apply_option_tokens(jobs[i].options, parsed.option_tokens);
+        paths.push_back(output_path(parsed, jobs[i], i, jobs.size()));
+        check_writable(paths.back(), jobs[i]);
+    }
+    RenderSession session;
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        const int code = render_job(session, jobs[i], parsed.scene, paths[i]);
+        if (code != exit_ok) return code;
+    }
+    return exit_ok;
+}
+
+}  // namespace caustica

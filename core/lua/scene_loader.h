@@ -1,0 +1,24 @@
+// Runs a scene script (the gr.* language of SCENE_API.md) in a sandbox and returns its renders.
+#pragma once
+
+#include "core/scene_desc.h"
+
+#include <atomic>
+#include <cstddef>
+#include <string>
+
+namespace caustica {
+
+/// Limits and inputs for running a scene script.
+struct LoadSettings {
+    Options base_options;                      ///< defaults the script's gr.option calls start from
+    double timeout_seconds = 60.0;             ///< wall-clock limit of script evaluation, 0 = none
+    std::size_t memory_limit_bytes = std::size_t(2) << 30;  ///< Lua heap cap
+    const std::atomic<bool>* cancel = nullptr; ///< set by Ctrl-C: stops the script promptly
+};
+
+/// Runs the script at `path` and returns every gr.render it made, in order.
+/// Throws InputError with "file:line: call: message" on any problem in the script.
+SceneScript load_scene_script(const std::string& path, const LoadSettings& settings = {});
+
+}  // namespace caustica

@@ -1,0 +1,44 @@
+// Materials as the renderer uses them (resolved from MaterialDesc).
+#pragma once
+
+#include "core/scene_desc.h"
+
+#include <glm/glm.hpp>
+
+namespace caustica {
+
+/// The course's Phong material with the seed's mirror and dielectric extensions.
+struct Material {
+    glm::vec3 kd{0.0f}, ks{0.0f};
+    float shininess = 0.0f;
+    bool reflective = false;       ///< mirror weighted by ks
+    bool transparent = false;      ///< dielectric: Fresnel split of ks (issue 3)
+    float refractive_index = 1.0f;
+    bool air = false;
+
+    /// Converts the scene description's material.
+    static Material from_desc(const MaterialDesc& desc) {
+        Material m;
+        m.kd = glm::vec3(desc.kd);
+        m.ks = glm::vec3(desc.ks);
+        m.shininess = static_cast<float>(desc.shininess);
+        m.reflective = desc.reflective;
+        m.transparent = desc.refractive_index.has_value();
+        m.refractive_index = static_cast<float>(desc.refractive_index.value_or(1.0));
+        m.air = desc.air;
+        return m;
+    }
+};
+
+/// A point light (radius 0) or spherical light.
+struct Light {
+    glm::vec3 position{0.0f}, colour{0.0f}, falloff{1.0f, 0.0f, 0.0f};
+    float radius = 0.0f;
+
+    /// The course's attenuation: 1 / (c0 + c1 d + c2 d^2).
+    float attenuation(float distance) const {
+        return 1.0f / (falloff.x + falloff.y * distance + falloff.z * distance * distance);
+    }
+};
+
+}  // namespace caustica

@@ -1,0 +1,77 @@
+// Render options: one table drives the command line, gr.option, --help and the PNG metadata.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace caustica {
+
+/// How projection maps are used when shooting caustic photons.
+enum class ProjectionMapMode { automatic, on, off };
+
+/// Every option of SCENE_API.md plus ours, with the seed's defaults.
+struct Options {
+    // conventions and reporting
+    bool a4 = false;           ///< course conventions (pre-multiplied transforms, unit cube)
+    bool timing = false;       ///< -t: per-stage times
+    bool silent = false;       ///< -s: no progress, no messages but errors
+    bool stats = false;        ///< -S: statistics
+    bool verbose = false;      ///< -v
+    bool debug = false;        ///< -d
+    // feature switches
+    bool disable_aa = false;
+    bool disable_bv = false;       ///< no bounding volumes (Embree always has a BVH; this builds it flat-as-possible)
+    bool disable_csg_bb = false;
+    bool draw_aa = false;          ///< mark supersampled pixels
+    bool draw_caustic_map = false;
+    bool draw_caustic_prm = false;
+    bool draw_caustics_only = false;
+    bool no_caustic_map = false;
+    bool no_soft_shadows = false;
+    bool reproducible = false;     ///< fixed random streams: identical output for any thread count
+    bool rays = false;             ///< sky background instead of the miss colour
+    bool srgb = false;             ///< encode sRGB in the PNG (default: clamp, linear, as the seed)
+    int resolution_override = 0;   ///< --minres/--lores/--midres/--hires: square size, 0 = as scripted
+    // values
+    int threads = 0;               ///< 0 = all cores
+    int aa_grid = 3;
+    double aa_threshold = 0.5;
+    long long caustic_num_photons = 0;
+    int caustic_num_neighbours = 100;
+    int caustic_pm_gran = 180;
+    double caustic_max_dist = -1.0;  ///< < 0: 0.15 x unit distance
+    ProjectionMapMode projection_map = ProjectionMapMode::automatic;
+    int shadow_grid = 4;
+    double unit_distance = 1.0;
+    double energy_fudge = 1.0;
+    int max_depth = 8;             ///< recursion limit for reflection/refraction
+    double min_weight = 1e-3;      ///< stop a ray path when its weight falls below this
+    double script_timeout = 60.0;  ///< seconds of script evaluation, 0 = none
+    long long seed = 0;            ///< base of the random streams
+
+    /// The maximum photon gather distance in effect (resolves the "0.15 x unit distance" default).
+    double effective_caustic_max_dist() const {
+        return caustic_max_dist < 0.0 ? 0.15 * unit_distance : caustic_max_dist;
+    }
+};
+
+/// Applies command-line style tokens ("--aa-grid", "4", "-S", "--threads=2") to `options`.
+/// Throws InputError naming the option on unknown options (suggesting the closest), missing or
+/// bad values. Non-option tokens are an error unless `positional` is given, which collects them.
+void apply_option_tokens(Options& options, const std::vector<std::string>& tokens,
+                         std::vector<std::string>* positional = nullptr);
+
+/// Splits a gr.option string into tokens on white space (quotes group words).
+std::vector<std::string> split_option_string(std::string_view text);
+
+/// The option list for --help, one option a line, grouped.
+std::string options_help();
+
+/// "--name value ..." for every option that differs from the defaults (PNG metadata, logs).
+std::string describe_non_default(const Options& options);
+
+/// Levenshtein distance, for "did you mean" suggestions.
+int edit_distance(std::string_view a, std::string_view b);
+
+}  // namespace caustica

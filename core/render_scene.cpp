@@ -1,0 +1,340 @@
+#include "core/render_scene.h"
+
+#include "core/source_location.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace caustica {
+namespace {
+
+std::string& last_embree_error() {
+    static std::string message;
+    return message;
+}
+
+void on_embree_error(void*, RTCError code, const char* message) {
+    last_embree_error() = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
+}
+
+void check_device(RTCDevice device, const char* what) {
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
+        throw std::runtime_error(std::string(what) + ": " + last_embree_error());
+}
+
+/// What the analytic user geometry's callbacks read.
+struct AnalyticGeometry {
+    const RenderScene::AnalyticPrimitive* prims;
+    const glm::vec3* lo;
+    const glm::vec3* hi;
+};
+
+void analytic_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
+    const glm::vec3 lo = geometry->lo[args->primID], hi = geometry->hi[args->primID];
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = lo.x, b->lower_y = lo.y, b->lower_z = lo.z;
+    b->upper_x = hi.x, b->upper_y = hi.y, b->upper_z = hi.z;
+}
+
+/// The crossing of a primitive nearest the ray start inside [tnear, tfar], if any.
+const SurfaceCrossing* nearest_crossing(const RenderScene::AnalyticPrimitive& prim, const glm::vec3& o,
+                                        const glm::vec3& d, float tnear, float tfar, ShapeInterval& interval) {
+    const glm::vec3 oo = glm::vec3(prim.world_to_object * glm::vec4(o, 1.0f));
+    const glm::vec3 dd = glm::mat3(prim.world_to_object) * d;
+    if (!intersect_shape_interval(prim.shape, oo, dd, interval)) return nullptr;
+    if (interval.entry.t >= tnear && interval.entry.t <= tfar) return &interval.entry;
+    if (interval.exit.t >= tnear && interval.exit.t <= tfar) return &interval.exit;
+    return nullptr;
+}
+
+void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
+    const RenderScene::AnalyticPrimitive& prim = geometry->prims[args->primID];
+    const unsigned n = args->N;
+    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
+    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
+        const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
+        ShapeInterval interval;
+        const SurfaceCrossing* c =
+            nearest_crossing(prim, o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), interval);
+        if (!c) continue;
+        RTCRayN_tfar(ray, n, i) = c->t;
+        const glm::vec3 normal = prim.normal_to_world * c->normal;
+        RTCHitN_Ng_x(hit, n, i) = normal.x;
+        RTCHitN_Ng_y(hit, n, i) = normal.y;
+        RTCHitN_Ng_z(hit, n, i) = normal.z;
+        RTCHitN_u(hit, n, i) = static_cast<float>(c->face);
+        RTCHitN_v(hit, n, i) = 0.0f;
+        RTCHitN_primID(hit, n, i) = args->primID;
+        RTCHitN_geomID(hit, n, i) = args->geomID;
+        for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
+            RTCHitN_instID(hit, n, i, level) = args->context->instID[level];
+    }
+}
+
+void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
+    const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
+    const RenderScene::AnalyticPrimitive& prim = geometry->prims[args->primID];
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        const glm::vec3 o(RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
+                          RTCRayN_org_z(args->ray, n, i));
+        const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
+                          RTCRayN_dir_z(args->ray, n, i));
+        ShapeInterval interval;
+        if (nearest_crossing(prim, o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), interval))
+            RTCRayN_tfar(args->ray, n, i) = -ray_infinity;
+    }
+}
+
+void transformed_bounds(const Shape& shape, const glm::mat4& m, glm::vec3& lo, glm::vec3& hi) {
+    glm::vec3 olo, ohi;
+    shape_bounds(shape, olo, ohi);
+    lo = glm::vec3(ray_infinity);
+    hi = glm::vec3(-ray_infinity);
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 p((corner & 1) ? ohi.x : olo.x, (corner & 2) ? ohi.y : olo.y, (corner & 4) ? ohi.z : olo.z);
+        const glm::vec3 w = glm::vec3(m * glm::vec4(p, 1.0f));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+    }
+    // Pad by a relative margin so that float rounding in the callbacks never falls outside.
+    const glm::vec3 pad = 1e-5f * (hi - lo) + 1e-6f * glm::max(glm::abs(lo), glm::abs(hi));
+    lo -= pad;
+    hi += pad;
+}
+
+RTCRay to_embree(const Ray& ray) {
+    RTCRay r{};
+    r.org_x = ray.origin.x, r.org_y = ray.origin.y, r.org_z = ray.origin.z;
+    r.dir_x = ray.direction.x, r.dir_y = ray.direction.y, r.dir_z = ray.direction.z;
+    r.tnear = ray.tmin;
+    r.tfar = ray.tmax;
+    r.mask = 0xffffffffu;
+    r.flags = 0;
+    r.time = 0.0f;
+    return r;
+}
+
+}  // namespace
+
+RTCDevice embree_device() {
+    static std::once_flag once;
+    static RTCDevice device = nullptr;
+    std::call_once(once, [] {
+        device = rtcNewDevice(nullptr);
+        if (!device) throw std::runtime_error("cannot create the Embree device");
+        rtcSetDeviceErrorFunction(device, on_embree_error, nullptr);
+    });
+    return device;
+}
+
+// The user geometry's callback data, owned by the scene.
+struct RenderScene::AnalyticHolder {
+    AnalyticGeometry geometry;
+    std::vector<glm::vec3> lo, hi;
+};
+
+RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
+    RTCDevice device = embree_device();
+    for (const MaterialDesc& m : desc.materials) materials_.push_back(Material::from_desc(m));
+    default_material_ = static_cast<int>(materials_.size());
+    Material grey;
+    grey.kd = glm::vec3(0.6f);
+    materials_.push_back(grey);
+
+    scene_ = rtcNewScene(device);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+
+    auto holder = std::make_unique<AnalyticHolder>();
+    std::unordered_map<int, int> mesh_slot;  // SceneDesc mesh index -> mesh_scenes_ index
+    struct PendingInstance {
+        int slot;
+        glm::mat4 transform;
+        int material;
+    };
+    std::vector<PendingInstance> pending;
+    for (const PlacedPrimitive& p : flat.primitives) {
+        const glm::mat4 to_world = glm::mat4(p.object_to_world);
+        const glm::mat3 normal_to_world = glm::mat3(glm::transpose(glm::inverse(p.object_to_world)));
+        const int material = p.material >= 0 ? p.material : default_material_;
+        if (!p.is_mesh) {
+            analytic_.push_back({p.shape, glm::mat4(glm::inverse(p.object_to_world)), normal_to_world, material});
+            glm::vec3 lo, hi;
+            transformed_bounds(p.shape, to_world, lo, hi);
+            holder->lo.push_back(lo);
+            holder->hi.push_back(hi);
+            continue;
+        }
+        auto [it, inserted] = mesh_slot.try_emplace(p.mesh, static_cast<int>(mesh_scenes_.size()));
+        if (inserted) {
+            const MeshData& mesh = *desc.meshes.at(p.mesh);
+            RTCScene mesh_scene = rtcNewScene(device);
+            rtcSetSceneBuildQuality(mesh_scene, RTC_BUILD_QUALITY_HIGH);
+            RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+                g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3, mesh.positions.size()));
+            std::memcpy(vertices, mesh.positions.data(), sizeof(float) * 3 * mesh.positions.size());
+            auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+                g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(unsigned) * 3, mesh.triangles.size()));
+            std::memcpy(indices, mesh.triangles.data(), sizeof(unsigned) * 3 * mesh.triangles.size());
+            rtcCommitGeometry(g);
+            rtcAttachGeometry(mesh_scene, g);
+            rtcReleaseGeometry(g);
+            rtcCommitScene(mesh_scene);
+            check_device(device, "building a mesh");
+            mesh_scenes_.push_back(mesh_scene);
+            meshes_.push_back(desc.meshes.at(p.mesh));
+            info_.triangles_stored += mesh.triangles.size();
+        }
+        pending.push_back({it->second, to_world, material});
+        info_.triangles_instanced += meshes_[it->second]->triangles.size();
+        instances_.push_back({it->second, normal_to_world, material});
+    }
+
+    if (!analytic_.empty()) {
+        holder->geometry = {analytic_.data(), holder->lo.data(), holder->hi.data()};
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(analytic_.size()));
+        rtcSetGeometryUserData(g, &holder->geometry);
+        rtcSetGeometryBoundsFunction(g, analytic_bounds, nullptr);
+        rtcSetGeometryIntersectFunction(g, analytic_intersect);
+        rtcSetGeometryOccludedFunction(g, analytic_occluded);
+        rtcCommitGeometry(g);
+        analytic_geom_id_ = rtcAttachGeometry(scene_, g);
+        rtcReleaseGeometry(g);
+    }
+    first_instance_id_ = analytic_.empty() ? 0u : 1u;
+    for (std::size_t i = 0; i < pending.size(); ++i) {
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, mesh_scenes_[pending[i].slot]);
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, glm::value_ptr(pending[i].transform));
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(scene_, g, first_instance_id_ + static_cast<unsigned>(i));
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(scene_);
+    check_device(device, "building the scene");
+    holder_ = std::move(holder);
+
+    info_.analytic_primitives = analytic_.size();
+    info_.mesh_instances = instances_.size();
+    info_.unique_meshes = mesh_scenes_.size();
+
+    RTCBounds b;
+    rtcGetSceneBounds(scene_, &b);
+    if (flat.primitives.empty() || !(b.lower_x <= b.upper_x)) {
+        lo_ = hi_ = glm::vec3(0.0f);
+    } else {
+        lo_ = {b.lower_x, b.lower_y, b.lower_z};
+        hi_ = {b.upper_x, b.upper_y, b.upper_z};
+    }
+    const float diagonal = glm::length(hi_ - lo_);
+    epsilon_ = (std::isfinite(diagonal) && diagonal > 0.0f) ? 1e-5f * diagonal : 1e-4f;
+}
+
+RenderScene::~RenderScene() {
+    if (scene_) rtcReleaseScene(scene_);
+    for (RTCScene s : mesh_scenes_) rtcReleaseScene(s);
+}
+
+void RenderScene::fill_hit(const RTCRayHit& rh, SurfaceHit& hit) const {
+    hit.t = rh.ray.tfar;
+    hit.position = glm::vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) +
+                   hit.t * glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+    const unsigned instance = rh.hit.instID[0];
+    if (instance == RTC_INVALID_GEOMETRY_ID) {
+        const AnalyticPrimitive& prim = analytic_[rh.hit.primID];
+        hit.normal = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+        hit.face = static_cast<int>(rh.hit.u);
+        hit.material = prim.material;
+        const glm::vec3 p_object = glm::vec3(prim.world_to_object * glm::vec4(hit.position, 1.0f));
+        hit.uv = shape_uv(prim.shape, p_object, hit.face);
+        return;
+    }
+    const MeshInstance& inst = instances_[instance - first_instance_id_];
+    const MeshData& mesh = *meshes_[inst.mesh];
+    const glm::uvec3 tri = mesh.triangles[rh.hit.primID];
+    const glm::vec3 v0 = mesh.positions[tri.x], v1 = mesh.positions[tri.y], v2 = mesh.positions[tri.z];
+    // Our own winding rule (counter-clockwise = outward, as OBJ files are written), not Embree's.
+    hit.normal = glm::normalize(inst.normal_to_world * glm::cross(v1 - v0, v2 - v0));
+    hit.face = 0;
+    hit.material = inst.material;
+    if (!mesh.texcoords.empty()) {
+        const std::size_t c = static_cast<std::size_t>(rh.hit.primID) * 3;
+        hit.uv = (1.0f - rh.hit.u - rh.hit.v) * mesh.texcoords[c] + rh.hit.u * mesh.texcoords[c + 1] +
+                 rh.hit.v * mesh.texcoords[c + 2];
+    } else {
+        hit.uv = {rh.hit.u, rh.hit.v};
+    }
+}
+
+bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray = to_embree(ray);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    fill_hit(rh, hit);
+    return true;
+}
+
+bool RenderScene::occluded(const Ray& ray) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r = to_embree(ray);
+    rtcOccluded1(scene_, &context, &r);
+    return r.tfar < 0.0f;
+}
+
+void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) RTCRayHit8 packet;
+    alignas(32) int mask[8];
+    for (int i = 0; i < 8; ++i) {
+        mask[i] = valid[i] ? -1 : 0;
+        const Ray& r = rays[i];
+        packet.ray.org_x[i] = r.origin.x, packet.ray.org_y[i] = r.origin.y, packet.ray.org_z[i] = r.origin.z;
+        packet.ray.dir_x[i] = r.direction.x, packet.ray.dir_y[i] = r.direction.y, packet.ray.dir_z[i] = r.direction.z;
+        packet.ray.tnear[i] = r.tmin;
+        packet.ray.tfar[i] = r.tmax;
+        packet.ray.mask[i] = 0xffffffffu;
+        packet.ray.flags[i] = 0;
+        packet.ray.time[i] = 0.0f;
+        packet.ray.id[i] = static_cast<unsigned>(i);
+        packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(mask, scene_, &context, &packet);
+    for (int i = 0; i < 8; ++i) {
+        found[i] = valid[i] && packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (!found[i]) continue;
+        RTCRayHit one;
+        one.ray.org_x = packet.ray.org_x[i], one.ray.org_y = packet.ray.org_y[i], one.ray.org_z = packet.ray.org_z[i];
+        one.ray.dir_x = packet.ray.dir_x[i], one.ray.dir_y = packet.ray.dir_y[i], one.ray.dir_z = packet.ray.dir_z[i];
+        one.ray.tfar = packet.ray.tfar[i];
+        one.hit.Ng_x = packet.hit.Ng_x[i], one.hit.Ng_y = packet.hit.Ng_y[i], one.hit.Ng_z = packet.hit.Ng_z[i];
+        one.hit.u = packet.hit.u[i], one.hit.v = packet.hit.v[i];
+        one.hit.primID = packet.hit.primID[i];
+        one.hit.geomID = packet.hit.geomID[i];
+        one.hit.instID[0] = packet.hit.instID[0][i];
+        fill_hit(one, hits[i]);
+    }
+}
+
+}  // namespace caustica

@@ -1,0 +1,275 @@
+#include "core/render_session.h"
+
+#include "core/camera.h"
+#include "core/integrator.h"
+#include "core/random.h"
+#include "core/render_scene.h"
+#include "core/scene_flatten.h"
+#include "core/source_location.h"
+#include "core/tile_renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_scheduler_observer.h>
+
+#include <xmmintrin.h>
+#include <pmmintrin.h>
+
+#include <chrono>
+#include <cstring>
+#include <random>
+
+namespace caustica {
+namespace {
+
+double now_seconds() {
+    using clock = std::chrono::steady_clock;
+    return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
+}
+
+/// Sets flush-to-zero and denormals-are-zero in every worker, as Embree asks.
+class FlushDenormals : public tbb::task_scheduler_observer {
+public:
+    explicit FlushDenormals(tbb::task_arena& arena) : tbb::task_scheduler_observer(arena) { observe(true); }
+    ~FlushDenormals() override { observe(false); }
+    void on_scheduler_entry(bool) override {
+        _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+        _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+    }
+};
+
+std::uint64_t hash_combine(std::uint64_t h, std::uint64_t v) { return mix64(h ^ (v + 0x9e3779b97f4a7c15ULL)); }
+
+std::uint64_t hash_double(std::uint64_t h, double d) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &d, sizeof bits);
+    return hash_combine(h, bits);
+}
+
+std::uint64_t hash_vec(std::uint64_t h, const glm::dvec3& v) {
+    return hash_double(hash_double(hash_double(h, v.x), v.y), v.z);
+}
+
+}  // namespace
+
+std::uint64_t geometry_fingerprint(const RenderJob& job) {
+    std::uint64_t h = hash_combine(0x6361757374696361ULL, static_cast<std::uint64_t>(job.root));
+    h = hash_combine(h, job.options.a4 ? 1 : 0);
+    const SceneDesc& scene = *job.scene;
+    for (const NodeDesc& node : scene.nodes) {
+        h = hash_combine(h, static_cast<std::uint64_t>(node.kind));
+        for (const TransformOp& op : node.transforms) {
+            h = hash_combine(h, static_cast<std::uint64_t>(op.kind) * 4 + static_cast<std::uint64_t>(op.axis));
+            h = hash_double(hash_vec(h, op.amount), op.degrees);
+        }
+        for (int child : node.children) h = hash_combine(h, static_cast<std::uint64_t>(child));
+        h = hash_combine(h, static_cast<std::uint64_t>(node.material + 1));
+        h = hash_double(hash_vec(h, node.position), node.size);
+        h = hash_combine(h, static_cast<std::uint64_t>(node.mesh + 1));
+        h = hash_combine(h, static_cast<std::uint64_t>((node.csg_left + 1) * 65536 + node.csg_right + 1));
+    }
+    for (const MaterialDesc& m : scene.materials) {
+        h = hash_double(hash_vec(hash_vec(h, m.kd), m.ks), m.shininess);
+        h = hash_combine(h, (m.reflective ? 1 : 0) + (m.air ? 2 : 0) + (m.refractive_index ? 4 : 0));
+        h = hash_double(h, m.refractive_index.value_or(0.0));
+        h = hash_combine(h, static_cast<std::uint64_t>((m.texture + 1) * 65536 + m.bumpmap + 1));
+    }
+    for (const auto& mesh : scene.meshes) h = hash_combine(h, reinterpret_cast<std::uintptr_t>(mesh.get()));
+    return h;
+}
+
+RenderSession::RenderSession() = default;
+
+RenderSession::~RenderSession() {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+}
+
+void RenderSession::set_job(const RenderJob& job) {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+    job_ = job;
+    const int size = job_.options.resolution_override;
+    if (size > 0) job_.width = job_.height = size;
+    geometry_key_ = geometry_fingerprint(job_);
+}
+
+void RenderSession::set_stage(const char* name) {
+    std::lock_guard lock(mutex_);
+    progress_.stage = name;
+}
+
+void RenderSession::prepare() {
+    if (!job_.scene) throw InputError("no scene to render");
+    if (scene_ && built_geometry_key_ == geometry_key_) {
+        std::lock_guard lock(mutex_);
+        stats_.stages.push_back({"scene build", 0.0, true});
+        return;
+    }
+    set_stage("building the scene");
+    const double t0 = now_seconds();
+    FlatScene flat = flatten_scene(*job_.scene, job_.root, job_.options.a4);
+    scene_.reset();
+    scene_ = std::make_unique<RenderScene>(*job_.scene, flat);
+    built_geometry_key_ = geometry_key_;
+    std::lock_guard lock(mutex_);
+    warnings_ = std::move(flat.warnings);
+    ++counters_.scene_builds;
+    stats_.stages.push_back({"scene build", now_seconds() - t0, false});
+    const SceneBuildInfo& info = scene_->info();
+    stats_.analytic_primitives = info.analytic_primitives;
+    stats_.mesh_instances = info.mesh_instances;
+    stats_.unique_meshes = info.unique_meshes;
+    stats_.triangles_stored = info.triangles_stored;
+    stats_.triangles_instanced = info.triangles_instanced;
+}
+
+void RenderSession::start() {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+    cancel_requested_ = false;
+    error_ = nullptr;
+    {
+        std::lock_guard lock(mutex_);
+        progress_ = SessionProgress{};
+        progress_.generation = ++generation_;
+        progress_.running = true;
+        stats_.stages.clear();
+        stats_.rays = {};
+    }
+    tiles_done_ = 0;
+    start_time_ = now_seconds();
+    running_ = true;
+    worker_ = std::thread([this] { run(); });
+}
+
+void RenderSession::run() {
+    try {
+        prepare();
+        render_passes();
+    } catch (...) {
+        error_ = std::current_exception();
+    }
+    std::lock_guard lock(mutex_);
+    progress_.running = false;
+    progress_.cancelled = cancel_requested_.load();
+    progress_.finished = !error_ && !progress_.cancelled;
+    progress_.elapsed_seconds = now_seconds() - start_time_;
+    stats_.total_seconds = progress_.elapsed_seconds;
+    running_ = false;
+}
+
+void RenderSession::render_passes() {
+    const Options& options = job_.options;
+    const int width = job_.width, height = job_.height;
+    const Camera camera(job_.camera, width, height);
+    ShadingSetup setup;
+    setup.scene = scene_.get();
+    for (int index : job_.lights) {
+        const LightDesc& d = job_.scene->lights.at(index);
+        setup.lights.push_back({glm::vec3(d.position), glm::vec3(d.colour), glm::vec3(d.falloff),
+                                static_cast<float>(d.radius)});
+    }
+    setup.ambient = glm::vec3(job_.ambient);
+    setup.miss_colour = glm::vec3(job_.miss_colour);
+    setup.sky = options.rays;
+    setup.max_depth = options.max_depth;
+    setup.min_weight = static_cast<float>(options.min_weight);
+    const Integrator integrator(setup);
+
+    TileContext context;
+    context.integrator = &integrator;
+    context.camera = &camera;
+    context.seed = options.reproducible ? static_cast<std::uint64_t>(options.seed)
+                                        : (static_cast<std::uint64_t>(options.seed) ^ std::random_device{}());
+    context.aa_grid = options.aa_grid;
+    context.aa_threshold = static_cast<float>(options.aa_threshold);
+    context.draw_aa = options.draw_aa;
+
+    const std::vector<Tile> tiles = make_tiles(width, height, tile_size);
+    const bool antialias = !options.disable_aa && options.aa_grid > 1;
+    {
+        std::lock_guard lock(mutex_);
+        progress_.passes = antialias ? 2 : 1;
+        progress_.tiles_total = tiles.size() * progress_.passes;
+    }
+    image_ = Image(width, height);
+    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    tbb::task_arena arena(threads);
+    FlushDenormals flush(arena);
+    tbb::enumerable_thread_specific<RayCounters> counters;
+
+    auto run_pass = [&](const char* name, int pass, auto&& body) {
+        set_stage(name);
+        {
+            std::lock_guard lock(mutex_);
+            progress_.pass = pass;
+        }
+        const double t0 = now_seconds();
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+                              [&](const tbb::blocked_range<std::size_t>& range) {
+                                  for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                                      if (cancel_requested_.load(std::memory_order_relaxed)) return;
+                                      body(tiles[i], counters.local());
+                                      tiles_done_.fetch_add(1, std::memory_order_relaxed);
+                                  }
+                              });
+        });
+        std::lock_guard lock(mutex_);
+        stats_.stages.push_back({name, now_seconds() - t0, false});
+    };
+
+    run_pass("first samples", 0, [&](const Tile& tile, RayCounters& c) {
+        render_first_pass_tile(context, tile, image_, c);
+    });
+    if (antialias && !cancel_requested_) {
+        first_pass_ = image_;
+        run_pass("anti-aliasing", 1, [&](const Tile& tile, RayCounters& c) {
+            render_antialiasing_tile(context, tile, first_pass_, image_, c);
+        });
+    }
+    RayCounters total;
+    for (const RayCounters& c : counters) total += c;
+    std::lock_guard lock(mutex_);
+    stats_.rays = total;
+    stats_.threads = threads;
+    ++counters_.renders;
+}
+
+void RenderSession::cancel() { cancel_requested_ = true; }
+
+bool RenderSession::wait() {
+    if (worker_.joinable()) worker_.join();
+    if (error_) std::rethrow_exception(error_);
+    std::lock_guard lock(mutex_);
+    return progress_.finished;
+}
+
+SessionProgress RenderSession::progress() const {
+    std::lock_guard lock(mutex_);
+    SessionProgress p = progress_;
+    p.tiles_done = tiles_done_.load(std::memory_order_relaxed);
+    if (p.running) p.elapsed_seconds = now_seconds() - start_time_;
+    return p;
+}
+
+RenderStats RenderSession::stats() const {
+    std::lock_guard lock(mutex_);
+    return stats_;
+}
+
+std::vector<std::string> RenderSession::warnings() const {
+    std::lock_guard lock(mutex_);
+    return warnings_;
+}
+
+RenderSession::StageCounters RenderSession::stage_counters() const {
+    std::lock_guard lock(mutex_);
+    return counters_;
+}
+
+}  // namespace caustica

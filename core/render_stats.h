@@ -1,0 +1,44 @@
+// Counters and stage times of a render, for -S and -t.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace caustica {
+
+/// Ray counts by kind; accumulated per thread and summed.
+struct RayCounters {
+    std::uint64_t primary = 0;
+    std::uint64_t shadow = 0;
+    std::uint64_t reflected = 0;
+    std::uint64_t refracted = 0;
+    std::uint64_t samples = 0;           ///< camera samples taken
+    std::uint64_t supersampled_pixels = 0;
+
+    RayCounters& operator+=(const RayCounters& o) {
+        primary += o.primary, shadow += o.shadow, reflected += o.reflected, refracted += o.refracted;
+        samples += o.samples, supersampled_pixels += o.supersampled_pixels;
+        return *this;
+    }
+    std::uint64_t total_rays() const { return primary + shadow + reflected + refracted; }
+};
+
+/// One timed stage ("scene build", "first pass", ...).
+struct StageTime {
+    std::string name;
+    double seconds = 0.0;
+    bool cached = false;  ///< reused from a previous render, not recomputed
+};
+
+/// Everything -S and -t report.
+struct RenderStats {
+    RayCounters rays;
+    std::vector<StageTime> stages;
+    std::size_t analytic_primitives = 0, mesh_instances = 0, unique_meshes = 0;
+    std::size_t triangles_stored = 0, triangles_instanced = 0;
+    int threads = 0;
+    double total_seconds = 0.0;
+};
+
+}  // namespace caustica

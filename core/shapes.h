@@ -1,0 +1,48 @@
+// Analytic primitives in their own object space. Every shape is convex, so a ray crosses it in
+// at most one interval [entry, exit]; nearest-hit queries and (later) CSG both build on that.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace caustica {
+
+/// The analytic shape kinds, after the scene's convention has been resolved.
+enum class ShapeKind : unsigned char {
+    sphere,    ///< centre + radius
+    box,       ///< axis-aligned [lo, hi]
+    cylinder,  ///< axis y, y in [-1,1], radius 1, capped
+    cone,      ///< axis y, apex at y = +1, radius 1 at the base y = -1, base capped
+};
+
+/// An analytic shape with its parameters (only sphere and box use them).
+struct Shape {
+    ShapeKind kind = ShapeKind::sphere;
+    glm::vec3 a{0.0f};   ///< sphere centre, or box lower corner
+    glm::vec3 b{1.0f};   ///< (radius, -, -) for a sphere, or box upper corner
+};
+
+/// One crossing of a shape's surface: ray parameter, outward object-space normal (not unit),
+/// surface parameters, and which face (for texture remaps: 0 = side, 1 = top cap, 2 = bottom cap;
+/// boxes: 0..5 = -x,+x,-y,+y,-z,+z).
+struct SurfaceCrossing {
+    float t = 0.0f;
+    glm::vec3 normal{0.0f};
+    int face = 0;
+};
+
+/// The ray's interval inside a shape: entry and exit crossings. Valid when entry.t <= exit.t.
+struct ShapeInterval {
+    SurfaceCrossing entry, exit;
+};
+
+/// Computes where the line o + t d (d need not be unit) is inside `shape`.
+/// Returns false when it misses. The interval may start at negative t (ray origin inside).
+bool intersect_shape_interval(const Shape& shape, const glm::vec3& o, const glm::vec3& d, ShapeInterval& out);
+
+/// Object-space bounding box of a shape.
+void shape_bounds(const Shape& shape, glm::vec3& lo, glm::vec3& hi);
+
+/// Surface parameters (u, v in [0,1]) of an object-space point on `face` of the shape.
+glm::vec2 shape_uv(const Shape& shape, const glm::vec3& p, int face);
+
+}  // namespace caustica

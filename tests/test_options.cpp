@@ -1,0 +1,125 @@
+// The option table: parsing, validation, suggestions, precedence.
+#include "core/options.h"
+#include "core/source_location.h"
+
+#include <gtest/gtest.h>
+
+using namespace caustica;
+
+namespace {
+
+std::string error_of(const std::vector<std::string>& tokens) {
+    Options o;
+    try {
+        apply_option_tokens(o, tokens);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(Options, DefaultsAreTheSeeds) {
+    const Options o;
+    EXPECT_EQ(o.aa_grid, 3);
+    EXPECT_DOUBLE_EQ(o.aa_threshold, 0.5);
+    EXPECT_EQ(o.caustic_num_photons, 0);
+    EXPECT_EQ(o.caustic_num_neighbours, 100);
+    EXPECT_EQ(o.caustic_pm_gran, 180);
+    EXPECT_EQ(o.shadow_grid, 4);
+    EXPECT_DOUBLE_EQ(o.unit_distance, 1.0);
+    EXPECT_DOUBLE_EQ(o.energy_fudge, 1.0);
+    EXPECT_DOUBLE_EQ(o.effective_caustic_max_dist(), 0.15);
+    EXPECT_EQ(o.projection_map, ProjectionMapMode::automatic);
+}
+
+TEST(Options, ParsesFlagsValuesAndShortForms) {
+    Options o;
+    apply_option_tokens(o, {"--a4", "-S", "-t", "--aa-grid", "5", "--aa-threshold=0.25", "-j", "2",
+                            "--caustic-num-photons", "1e6", "--projection-map", "off", "--unit-distance", "2.5",
+                            "--hires"});
+    EXPECT_TRUE(o.a4);
+    EXPECT_TRUE(o.stats);
+    EXPECT_TRUE(o.timing);
+    EXPECT_EQ(o.aa_grid, 5);
+    EXPECT_DOUBLE_EQ(o.aa_threshold, 0.25);
+    EXPECT_EQ(o.threads, 2);
+    EXPECT_EQ(o.caustic_num_photons, 1000000);
+    EXPECT_EQ(o.projection_map, ProjectionMapMode::off);
+    EXPECT_DOUBLE_EQ(o.effective_caustic_max_dist(), 0.15 * 2.5);
+    EXPECT_EQ(o.resolution_override, 1024);
+}
+
+TEST(Options, UnknownOptionSuggestsTheClosest) {
+    EXPECT_EQ(error_of({"--aa-gird", "3"}), "unknown option '--aa-gird' (did you mean --aa-grid?)");
+    EXPECT_EQ(error_of({"--caustic-num-photon", "3"}),
+              "unknown option '--caustic-num-photon' (did you mean --caustic-num-photons?)");
+    EXPECT_EQ(error_of({"--zzzzzzzzzzzzzzzzzzzz"}), "unknown option '--zzzzzzzzzzzzzzzzzzzz'");
+}
+
+TEST(Options, BadValuesNameTheOption) {
+    EXPECT_EQ(error_of({"--aa-grid", "-1"}), "--aa-grid: -1 is out of range [1, 16]");
+    EXPECT_EQ(error_of({"--aa-grid", "three"}), "--aa-grid: expected a whole number, got 'three'");
+    EXPECT_EQ(error_of({"--aa-grid"}), "--aa-grid: expects a value (N)");
+    EXPECT_EQ(error_of({"--unit-distance", "0"}), "--unit-distance: 0 is out of range (0, 1e+30]");
+    EXPECT_EQ(error_of({"--unit-distance", "nan"}), "--unit-distance: nan is not a finite number");
+    EXPECT_EQ(error_of({"--unit-distance", "inf"}), "--unit-distance: inf is not a finite number");
+    EXPECT_EQ(error_of({"--caustic-num-photons", "-5"}), "--caustic-num-photons: -5 is out of range [0, 100000000000]");
+    EXPECT_EQ(error_of({"--projection-map", "maybe"}), "--projection-map: expected auto, on or off, got 'maybe'");
+    EXPECT_EQ(error_of({"--a4=1"}), "--a4: takes no value");
+    EXPECT_EQ(error_of({"scene.lua"}), "unexpected argument 'scene.lua' (options start with --)");
+}
+
+TEST(Options, GlobalIlluminationIsRefusedNotIgnored) {
+    EXPECT_NE(error_of({"--gi"}).find("not implemented"), std::string::npos);
+    EXPECT_NE(error_of({"--gi-num-photons", "10"}).find("not implemented"), std::string::npos);
+}
+
+TEST(Options, LaterTokensWinSoTheCommandLineCanOverrideTheScript) {
+    Options o;
+    apply_option_tokens(o, split_option_string("--aa-grid 2 --shadow-grid 7"));  // gr.option
+    apply_option_tokens(o, {"--aa-grid", "6"});                                // command line
+    EXPECT_EQ(o.aa_grid, 6);
+    EXPECT_EQ(o.shadow_grid, 7);
+}
+
+TEST(Options, SplitsOptionStringsWithQuotes) {
+    EXPECT_EQ(split_option_string("  --a4\t--threads 2 "), (std::vector<std::string>{"--a4", "--threads", "2"}));
+    EXPECT_EQ(split_option_string("--x 'a b'"), (std::vector<std::string>{"--x", "a b"}));
+    EXPECT_THROW(split_option_string("--x 'a b"), InputError);
+}
+
+TEST(Options, PositionalArgumentsAreCollectedWhenAllowed) {
+    Options o;
+    std::vector<std::string> positional;
+    apply_option_tokens(o, {"--a4", "scene.lua", "-S"}, &positional);
+    EXPECT_EQ(positional, std::vector<std::string>{"scene.lua"});
+    EXPECT_TRUE(o.stats);
+}
+
+TEST(Options, DescribesOnlyNonDefaults) {
+    Options o;
+    EXPECT_EQ(describe_non_default(o), "");
+    apply_option_tokens(o, {"--a4", "--aa-grid", "4"});
+    EXPECT_EQ(describe_non_default(o), "--a4 --aa-grid 4");
+}
+
+TEST(Options, HelpListsEveryOptionOfTheSceneApi) {
+    const std::string help = options_help();
+    for (const char* name :
+         {"--a4", "--timing", "--silent", "--stats", "--verbose", "--debug", "--disable-aa", "--disable-bv",
+          "--disable-csg-bb", "--draw-aa", "--draw-caustic-map", "--draw-caustic-prm", "--draw-caustics-only",
+          "--no-caustic-map", "--no-soft-shadows", "--reproducible", "--minres", "--lores", "--midres", "--hires",
+          "--rays", "--gi", "--draw-gi-map", "--draw-gi-only", "--threads", "--aa-grid", "--aa-threshold",
+          "--caustic-num-photons", "--caustic-num-neighbours", "--caustic-pm-gran", "--caustic-max-dist",
+          "--projection-map", "--shadow-grid", "--unit-distance", "--energy-fudge", "--gi-num-photons",
+          "--gi-num-neighbours", "--script-timeout"})
+        EXPECT_NE(help.find(name), std::string::npos) << name;
+}
+
+TEST(Options, EditDistance) {
+    EXPECT_EQ(edit_distance("kitten", "sitting"), 3);
+    EXPECT_EQ(edit_distance("", "abc"), 3);
+    EXPECT_EQ(edit_distance("same", "same"), 0);
+}
