@@ -1,68 +1,192 @@
 #include "core/integrator.h"
 
+#include "core/optics.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace caustica {
+namespace {
+
+float max_component(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
+
+/// Maps a point of the unit square to the unit disc, preserving area and strata (Shirley-Chiu).
+glm::vec2 concentric_disc(float u, float v) {
+    const float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
+    if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
+    constexpr float quarter_pi = 0.78539816339744831f;
+    if (std::fabs(a) > std::fabs(b)) return a * glm::vec2(std::cos(quarter_pi * b / a), std::sin(quarter_pi * b / a));
+    return b * glm::vec2(std::cos(2.0f * quarter_pi - quarter_pi * a / b), std::sin(2.0f * quarter_pi - quarter_pi * a / b));
+}
+
+}  // namespace
 
 glm::vec3 Integrator::background(const glm::vec3& direction) const {
     if (!setup_.sky) return setup_.miss_colour;
     // A plain daylight sky: deep blue overhead fading to a pale horizon, darker ground below.
     const float up = direction.y;
-    if (up < 0.0f) return glm::mix(glm::vec3(0.75f, 0.8f, 0.85f), glm::vec3(0.35f, 0.33f, 0.3f), std::min(1.0f, -up * 4.0f));
+    if (up < 0.0f)
+        return glm::mix(glm::vec3(0.75f, 0.8f, 0.85f), glm::vec3(0.35f, 0.33f, 0.3f), std::min(1.0f, -up * 4.0f));
     return glm::mix(glm::vec3(0.75f, 0.85f, 1.0f), glm::vec3(0.2f, 0.4f, 0.85f), std::sqrt(up));
 }
 
-glm::vec3 Integrator::trace_camera_ray(const Ray& ray, RayCounters& counters) const {
+glm::vec3 Integrator::trace_camera_ray(const Ray& ray, RandomStream& random, RayCounters& counters) const {
     ++counters.primary;
-    return trace(ray, 0, glm::vec3(1.0f), counters);
+    return trace(ray, PathState{}, random, counters);
 }
 
-glm::vec3 Integrator::shade_primary_hit(const Ray& ray, const SurfaceHit& hit, RayCounters& counters) const {
+glm::vec3 Integrator::shade_primary_hit(const Ray& ray, const SurfaceHit& hit, RandomStream& random,
+                                        RayCounters& counters) const {
     ++counters.primary;
-    return shade(ray, hit, 0, glm::vec3(1.0f), counters);
+    return shade(ray, hit, PathState{}, random, counters);
 }
 
-glm::vec3 Integrator::trace(const Ray& ray, int depth, glm::vec3 weight, RayCounters& counters) const {
-    SurfaceHit hit;
-    if (!setup_.scene->intersect(ray, hit)) return background(ray.direction);
-    return shade(ray, hit, depth, weight, counters);
+float Integrator::medium_index(int material) const {
+    return material < 0 ? 1.0f : setup_.scene->materials()[material].refractive_index;
 }
 
-glm::vec3 Integrator::shade(const Ray& ray, const SurfaceHit& hit, int depth, glm::vec3 weight,
+glm::vec3 Integrator::trace(const Ray& ray, const PathState& path, RandomStream& random,
                             RayCounters& counters) const {
-    const Material& m = setup_.scene->materials()[hit.material];
-    const float eps = setup_.scene->epsilon();
-    // Shade the side the ray arrives on.
-    const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
-    const glm::vec3 to_eye = -ray.direction;
+    SurfaceHit hit;
+    const bool found = setup_.scene->intersect(ray, hit);
+    // Light travelling inside a coloured medium is attenuated with the distance (seed 1.3).
+    glm::vec3 transmittance(1.0f);
+    if (const int medium = path.media.top(); medium >= 0) {
+        const Material& m = setup_.scene->materials()[medium];
+        transmittance = medium_transmittance(m.medium_colour, found ? hit.t : ray_infinity, setup_.unit_distance);
+    }
+    if (!found) return transmittance * background(ray.direction);
+    return transmittance * shade(ray, hit, path, random, counters);
+}
 
-    glm::vec3 colour = setup_.ambient * m.kd;
-    const bool has_specular = m.ks.x > 0.0f || m.ks.y > 0.0f || m.ks.z > 0.0f;
+float Integrator::light_visibility(const Light& light, const glm::vec3& point, RandomStream& random,
+                                   RayCounters& counters) const {
+    const float eps = setup_.scene->epsilon();
+    const glm::vec3 to_centre = light.position - point;
+    const float distance = glm::length(to_centre);
+    if (light.radius <= 0.0f || !setup_.soft_shadows || distance <= light.radius) {
+        ++counters.shadow;
+        return setup_.scene->occluded(Ray{point, to_centre / distance, eps, distance - eps}) ? 0.0f : 1.0f;
+    }
+    // Stratified samples over the light's disc as seen from the point.
+    const glm::vec3 w = to_centre / distance;
+    const glm::vec3 helper = std::fabs(w.x) > 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    const glm::vec3 u = glm::normalize(glm::cross(helper, w)), v = glm::cross(w, u);
+    const int n = setup_.shadow_grid;
+    int visible = 0;
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            const glm::vec2 disc =
+                concentric_disc((static_cast<float>(i) + random.uniform()) / static_cast<float>(n),
+                                (static_cast<float>(j) + random.uniform()) / static_cast<float>(n));
+            const glm::vec3 target = light.position + light.radius * (disc.x * u + disc.y * v);
+            const glm::vec3 d = target - point;
+            const float length = glm::length(d);
+            ++counters.shadow;
+            visible += !setup_.scene->occluded(Ray{point, d / length, eps, length - eps});
+        }
+    }
+    return static_cast<float>(visible) / static_cast<float>(n * n);
+}
+
+glm::vec3 Integrator::direct_light(const Material& m, const glm::vec3& kd, const SurfaceHit& hit,
+                                   const glm::vec3& n, const glm::vec3& to_eye, bool diffuse, RandomStream& random,
+                                   RayCounters& counters) const {
+    const bool highlight = m.ks.x > 0.0f || m.ks.y > 0.0f || m.ks.z > 0.0f;
+    glm::vec3 colour(0.0f);
     for (const Light& light : setup_.lights) {
         glm::vec3 to_light = light.position - hit.position;
         const float distance = glm::length(to_light);
-        if (!(distance > eps)) continue;
+        if (!(distance > 0.0f)) continue;
         to_light /= distance;
         const float n_dot_l = glm::dot(n, to_light);
         if (n_dot_l <= 0.0f) continue;
-        ++counters.shadow;
-        if (setup_.scene->occluded(Ray{hit.position, to_light, eps, distance - eps})) continue;
-        glm::vec3 lit = m.kd * n_dot_l;
-        if (has_specular) {
-            const glm::vec3 r = glm::reflect(-to_light, n);
-            const float r_dot_v = glm::dot(r, to_eye);
+        glm::vec3 lit = diffuse ? kd * n_dot_l : glm::vec3(0.0f);
+        if (highlight) {
+            const float r_dot_v = glm::dot(glm::reflect(-to_light, n), to_eye);
             if (r_dot_v > 0.0f) lit += m.ks * std::pow(r_dot_v, m.shininess);
         }
-        colour += light.colour * lit * light.attenuation(distance);
+        if (lit == glm::vec3(0.0f)) continue;
+        const float visibility = light_visibility(light, hit.position, random, counters);
+        if (visibility > 0.0f) colour += visibility * light.colour * lit * light.attenuation(distance);
     }
+    return colour;
+}
 
-    if (m.reflective && depth < setup_.max_depth) {
-        const glm::vec3 reflected_weight = weight * m.ks;
-        if (std::max({reflected_weight.x, reflected_weight.y, reflected_weight.z}) >= setup_.min_weight) {
+glm::vec3 Integrator::shade(const Ray& ray, const SurfaceHit& hit, const PathState& path, RandomStream& random,
+                            RayCounters& counters) const {
+    const Material& m = setup_.scene->materials()[hit.material];
+    // Shade the side the ray arrives on.
+    glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
+    glm::vec3 kd = m.kd;
+    if (setup_.textures && !setup_.textures->empty()) {
+        kd = setup_.textures->diffuse(hit.material, hit, kd);
+        n = setup_.textures->shading_normal(hit.material, hit, n);
+    }
+    const glm::vec3 to_eye = -ray.direction;
+    if (m.transparent) {
+        // Transparent surfaces: their kd is the medium's colour, not a diffuse reflectance.
+        glm::vec3 colour = m.air ? glm::vec3(0.0f) : direct_light(m, kd, hit, n, to_eye, false, random, counters);
+        return colour + dielectric(ray, hit, m, n, path, random, counters);
+    }
+    glm::vec3 colour = setup_.ambient * kd + direct_light(m, kd, hit, n, to_eye, true, random, counters);
+    if (m.reflective && path.depth < setup_.max_depth) {
+        PathState next = path;
+        next.depth += 1;
+        next.weight = path.weight * m.ks;
+        if (max_component(next.weight) >= setup_.min_weight) {
+            ++counters.reflected;
+            const Ray reflected{hit.position, glm::reflect(ray.direction, n), setup_.scene->epsilon(), ray_infinity};
+            colour += m.ks * trace(reflected, next, random, counters);
+        }
+    }
+    return colour;
+}
+
+glm::vec3 Integrator::dielectric(const Ray& ray, const SurfaceHit& hit, const Material& m, const glm::vec3& n,
+                                 const PathState& path, RandomStream& random, RayCounters& counters) const {
+    if (path.depth >= setup_.max_depth) return glm::vec3(0.0f);
+    // Which media meet here: the surface's inside, and its outside (explicit at a CSG interface,
+    // else whatever the ray's stack says surrounds the solid).
+    const bool entering = glm::dot(hit.normal, ray.direction) < 0.0f;
+    MediumStack after = path.media;
+    int from, to;
+    if (entering) {
+        from = hit.medium_outside >= 0 ? hit.medium_outside : path.media.top();
+        to = hit.medium_inside;
+        if (hit.medium_outside >= 0) after.remove(hit.medium_outside);
+        after.push(hit.medium_inside);
+    } else {
+        from = hit.medium_inside;
+        after.remove(hit.medium_inside);
+        if (hit.medium_outside >= 0 && after.top() != hit.medium_outside) after.push(hit.medium_outside);
+        to = after.top();
+    }
+    const float n1 = medium_index(from), n2 = medium_index(to);
+    const float cos_i = -glm::dot(n, ray.direction);
+    const float reflectance = fresnel_reflectance(n1, n2, cos_i);
+    // ks is the overall specular colour, split by Fresnel (seed 1.3); an air surface is only an interface.
+    const glm::vec3 specular = m.air ? glm::vec3(1.0f) : m.ks;
+    const float eps = setup_.scene->epsilon();
+    glm::vec3 colour(0.0f);
+    PathState next = path;
+    next.depth += 1;
+    if (reflectance > 0.0f) {
+        next.weight = path.weight * specular * reflectance;
+        if (max_component(next.weight) >= setup_.min_weight) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
-            colour += m.ks * trace(reflected, depth + 1, reflected_weight, counters);
+            colour += specular * reflectance * trace(reflected, next, random, counters);
+        }
+    }
+    glm::vec3 direction;
+    if (reflectance < 1.0f && refract_direction(ray.direction, n, n1, n2, direction)) {
+        next.weight = path.weight * specular * (1.0f - reflectance);
+        next.media = after;
+        if (max_component(next.weight) >= setup_.min_weight) {
+            ++counters.refracted;
+            const Ray refracted{hit.position, direction, eps, ray_infinity};
+            colour += specular * (1.0f - reflectance) * trace(refracted, next, random, counters);
         }
     }
     return colour;

@@ -1,11 +1,15 @@
-// The Whitted-style integrator with the course's Phong model: ambient kd, per light
-// kd (n.l) + ks (r.v)^shininess over c0 + c1 d + c2 d^2, hard shadows, mirror reflection.
+// The Whitted-style integrator with the course's Phong model (ambient kd, per light
+// kd (n.l) + ks (r.v)^shininess over c0 + c1 d + c2 d^2), shadows (hard, or soft from spherical
+// lights), mirror reflection, and Fresnel-weighted reflection/refraction through coloured media.
 #pragma once
 
 #include "core/material.h"
+#include "core/medium_stack.h"
 #include "core/options.h"
+#include "core/random.h"
 #include "core/render_scene.h"
 #include "core/render_stats.h"
+#include "core/texture.h"
 
 #include <vector>
 
@@ -14,24 +18,29 @@ namespace caustica {
 /// Scene-wide shading inputs for one render job.
 struct ShadingSetup {
     const RenderScene* scene = nullptr;
+    const TextureSet* textures = nullptr;  ///< may be null: no textures
     std::vector<Light> lights;
     glm::vec3 ambient{0.0f};
     glm::vec3 miss_colour{0.0f};
-    bool sky = false;       ///< --rays
+    bool sky = false;        ///< --rays
     int max_depth = 8;
     float min_weight = 1e-3f;
+    int shadow_grid = 4;     ///< N x N shadow samples on a spherical light
+    bool soft_shadows = true;
+    float unit_distance = 1.0f;
 };
 
-/// Radiance along rays; stateless apart from the per-thread counters passed in.
+/// Radiance along rays; stateless apart from the counters and random stream passed in.
 class Integrator {
 public:
     explicit Integrator(const ShadingSetup& setup) : setup_(setup) {}
 
     /// Colour seen along a camera ray.
-    glm::vec3 trace_camera_ray(const Ray& ray, RayCounters& counters) const;
+    glm::vec3 trace_camera_ray(const Ray& ray, RandomStream& random, RayCounters& counters) const;
 
     /// Colour at a surface already found by a primary ray (used by packet tracing).
-    glm::vec3 shade_primary_hit(const Ray& ray, const SurfaceHit& hit, RayCounters& counters) const;
+    glm::vec3 shade_primary_hit(const Ray& ray, const SurfaceHit& hit, RandomStream& random,
+                                RayCounters& counters) const;
 
     /// Packet intersection of primary rays against the scene.
     void scene_intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const {
@@ -41,10 +50,27 @@ public:
     /// Colour of a ray that escapes the scene.
     glm::vec3 background(const glm::vec3& direction) const;
 
+    /// Fraction of a light visible from a point (1 or 0 for point lights; stratified for spheres).
+    float light_visibility(const Light& light, const glm::vec3& point, RandomStream& random,
+                           RayCounters& counters) const;
+
 private:
-    glm::vec3 trace(const Ray& ray, int depth, glm::vec3 weight, RayCounters& counters) const;
-    glm::vec3 shade(const Ray& ray, const SurfaceHit& hit, int depth, glm::vec3 weight,
+    /// The state a ray path carries down the recursion.
+    struct PathState {
+        int depth = 0;
+        glm::vec3 weight{1.0f};
+        MediumStack media;
+    };
+
+    glm::vec3 trace(const Ray& ray, const PathState& path, RandomStream& random, RayCounters& counters) const;
+    glm::vec3 shade(const Ray& ray, const SurfaceHit& hit, const PathState& path, RandomStream& random,
                     RayCounters& counters) const;
+    glm::vec3 direct_light(const Material& m, const glm::vec3& kd, const SurfaceHit& hit, const glm::vec3& n,
+                           const glm::vec3& to_eye, bool diffuse, RandomStream& random,
+                           RayCounters& counters) const;
+    glm::vec3 dielectric(const Ray& ray, const SurfaceHit& hit, const Material& m, const glm::vec3& n,
+                         const PathState& path, RandomStream& random, RayCounters& counters) const;
+    float medium_index(int material) const;
 
     const ShadingSetup& setup_;
 };

@@ -12,9 +12,10 @@ struct Material {
     glm::vec3 kd{0.0f}, ks{0.0f};
     float shininess = 0.0f;
     bool reflective = false;       ///< mirror weighted by ks
-    bool transparent = false;      ///< dielectric: Fresnel split of ks (issue 3)
+    bool transparent = false;      ///< dielectric (set_ri) or air: Fresnel split of ks
     float refractive_index = 1.0f;
-    bool air = false;
+    bool air = false;              ///< gr.air(): an empty medium, index 1, no surface of its own
+    glm::vec3 medium_colour{0.0f}; ///< Beer-Lambert colour of a transparent material (its kd)
 
     /// Converts the scene description's material.
     static Material from_desc(const MaterialDesc& desc) {
@@ -23,9 +24,10 @@ struct Material {
         m.ks = glm::vec3(desc.ks);
         m.shininess = static_cast<float>(desc.shininess);
         m.reflective = desc.reflective;
-        m.transparent = desc.refractive_index.has_value();
-        m.refractive_index = static_cast<float>(desc.refractive_index.value_or(1.0));
         m.air = desc.air;
+        m.transparent = desc.refractive_index.has_value() || desc.air;
+        m.refractive_index = desc.air ? 1.0f : static_cast<float>(desc.refractive_index.value_or(1.0));
+        m.medium_colour = m.transparent ? m.kd : glm::vec3(0.0f);
         return m;
     }
 };

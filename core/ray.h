@@ -23,8 +23,16 @@ struct SurfaceHit {
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f};  ///< unit geometric normal, outward (not flipped towards the ray)
     glm::vec2 uv{0.0f};      ///< surface parameters, for textures
-    int material = -1;       ///< index into RenderScene::materials()
-    int face = 0;            ///< face code of analytic shapes (see SurfaceCrossing)
+    int material = -1;       ///< index into RenderScene::materials(): the surface's appearance
+    /// Media on either side of the surface (material indices). `inside` is behind the normal;
+    /// `outside` is in front of it, or -1 when unknown (the ray's medium stack decides).
+    int medium_inside = -1;
+    int medium_outside = -1;
+    // Surface frame for textures and bump maps.
+    int face = 0;                           ///< face code of analytic shapes (see SurfaceCrossing)
+    int shape_kind = -1;                    ///< ShapeKind of an analytic shape, -1 for a mesh
+    glm::vec3 object_position{0.0f};        ///< hit point in the primitive's object space
+    glm::vec3 dpdu{0.0f}, dpdv{0.0f};       ///< world-space surface tangents along u and v
 };
 
 }  // namespace caustica

@@ -169,7 +169,8 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
         const glm::mat3 normal_to_world = glm::mat3(glm::transpose(glm::inverse(p.object_to_world)));
         const int material = p.material >= 0 ? p.material : default_material_;
         if (!p.is_mesh) {
-            analytic_.push_back({p.shape, glm::mat4(glm::inverse(p.object_to_world)), normal_to_world, material});
+            analytic_.push_back({p.shape, glm::mat4(glm::inverse(p.object_to_world)), glm::mat3(to_world), normal_to_world,
+                                 material});
             glm::vec3 lo, hi;
             transformed_bounds(p.shape, to_world, lo, hi);
             holder->lo.push_back(lo);
@@ -199,7 +200,7 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
         }
         pending.push_back({it->second, to_world, material});
         info_.triangles_instanced += meshes_[it->second]->triangles.size();
-        instances_.push_back({it->second, normal_to_world, material});
+        instances_.push_back({it->second, glm::mat3(to_world), normal_to_world, material});
     }
 
     if (!analytic_.empty()) {
@@ -258,25 +259,45 @@ void RenderScene::fill_hit(const RTCRayHit& rh, SurfaceHit& hit) const {
         hit.normal = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
         hit.face = static_cast<int>(rh.hit.u);
         hit.material = prim.material;
-        const glm::vec3 p_object = glm::vec3(prim.world_to_object * glm::vec4(hit.position, 1.0f));
-        hit.uv = shape_uv(prim.shape, p_object, hit.face);
-        return;
-    }
-    const MeshInstance& inst = instances_[instance - first_instance_id_];
-    const MeshData& mesh = *meshes_[inst.mesh];
-    const glm::uvec3 tri = mesh.triangles[rh.hit.primID];
-    const glm::vec3 v0 = mesh.positions[tri.x], v1 = mesh.positions[tri.y], v2 = mesh.positions[tri.z];
-    // Our own winding rule (counter-clockwise = outward, as OBJ files are written), not Embree's.
-    hit.normal = glm::normalize(inst.normal_to_world * glm::cross(v1 - v0, v2 - v0));
-    hit.face = 0;
-    hit.material = inst.material;
-    if (!mesh.texcoords.empty()) {
-        const std::size_t c = static_cast<std::size_t>(rh.hit.primID) * 3;
-        hit.uv = (1.0f - rh.hit.u - rh.hit.v) * mesh.texcoords[c] + rh.hit.u * mesh.texcoords[c + 1] +
-                 rh.hit.v * mesh.texcoords[c + 2];
+        hit.shape_kind = static_cast<int>(prim.shape.kind);
+        hit.object_position = glm::vec3(prim.world_to_object * glm::vec4(hit.position, 1.0f));
+        hit.uv = shape_uv(prim.shape, hit.object_position, hit.face);
+        glm::vec3 dpdu, dpdv;
+        shape_tangents(prim.shape, hit.object_position, hit.face, dpdu, dpdv);
+        hit.dpdu = prim.object_to_world * dpdu;
+        hit.dpdv = prim.object_to_world * dpdv;
     } else {
-        hit.uv = {rh.hit.u, rh.hit.v};
+        const MeshInstance& inst = instances_[instance - first_instance_id_];
+        const MeshData& mesh = *meshes_[inst.mesh];
+        const glm::uvec3 tri = mesh.triangles[rh.hit.primID];
+        const glm::vec3 v0 = mesh.positions[tri.x], v1 = mesh.positions[tri.y], v2 = mesh.positions[tri.z];
+        // Our own winding rule (counter-clockwise = outward, as OBJ files are written), not Embree's.
+        hit.normal = glm::normalize(inst.normal_to_world * glm::cross(v1 - v0, v2 - v0));
+        hit.face = 0;
+        hit.shape_kind = -1;
+        hit.material = inst.material;
+        const float b1 = rh.hit.u, b2 = rh.hit.v;
+        hit.object_position = (1.0f - b1 - b2) * v0 + b1 * v1 + b2 * v2;
+        glm::vec2 t0(0.0f, 0.0f), t1(1.0f, 0.0f), t2(0.0f, 1.0f);
+        if (!mesh.texcoords.empty()) {
+            const std::size_t c = static_cast<std::size_t>(rh.hit.primID) * 3;
+            t0 = mesh.texcoords[c], t1 = mesh.texcoords[c + 1], t2 = mesh.texcoords[c + 2];
+        }
+        hit.uv = (1.0f - b1 - b2) * t0 + b1 * t1 + b2 * t2;
+        // Tangents from the triangle's texture mapping: solve [e1 e2] = [dpdu dpdv] [du dv].
+        const glm::vec2 duv1 = t1 - t0, duv2 = t2 - t0;
+        const float det = duv1.x * duv2.y - duv1.y * duv2.x;
+        const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
+        glm::vec3 dpdu(0.0f), dpdv(0.0f);
+        if (std::fabs(det) > 1e-12f) {
+            dpdu = (duv2.y * e1 - duv1.y * e2) / det;
+            dpdv = (-duv2.x * e1 + duv1.x * e2) / det;
+        }
+        hit.dpdu = inst.object_to_world * dpdu;
+        hit.dpdv = inst.object_to_world * dpdv;
     }
+    hit.medium_inside = hit.material;
+    hit.medium_outside = -1;
 }
 
 bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {

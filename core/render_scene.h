@@ -56,12 +56,14 @@ public:
     struct AnalyticPrimitive {
         Shape shape;
         glm::mat4 world_to_object;
+        glm::mat3 object_to_world;  ///< linear part, for tangents
         glm::mat3 normal_to_world;
         int material;
     };
     /// Per-mesh-instance data for shading.
     struct MeshInstance {
         int mesh;
+        glm::mat3 object_to_world;  ///< linear part, for tangents
         glm::mat3 normal_to_world;
         int material;
     };

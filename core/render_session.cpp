@@ -6,6 +6,7 @@
 #include "core/render_scene.h"
 #include "core/scene_flatten.h"
 #include "core/source_location.h"
+#include "core/texture.h"
 #include "core/tile_renderer.h"
 
 #include <tbb/blocked_range.h>
@@ -113,7 +114,9 @@ void RenderSession::prepare() {
     const double t0 = now_seconds();
     FlatScene flat = flatten_scene(*job_.scene, job_.root, job_.options.a4);
     scene_.reset();
+    textures_.reset();
     scene_ = std::make_unique<RenderScene>(*job_.scene, flat);
+    textures_ = std::make_unique<TextureSet>(*job_.scene);
     built_geometry_key_ = geometry_key_;
     std::lock_guard lock(mutex_);
     warnings_ = std::move(flat.warnings);
@@ -178,6 +181,10 @@ void RenderSession::render_passes() {
     setup.sky = options.rays;
     setup.max_depth = options.max_depth;
     setup.min_weight = static_cast<float>(options.min_weight);
+    setup.shadow_grid = options.shadow_grid;
+    setup.soft_shadows = !options.no_soft_shadows;
+    setup.unit_distance = static_cast<float>(options.unit_distance);
+    setup.textures = textures_.get();
     const Integrator integrator(setup);
 
     TileContext context;

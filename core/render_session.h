@@ -20,6 +20,7 @@
 namespace caustica {
 
 class RenderScene;
+class TextureSet;
 
 /// A consistent view of how far the current render is.
 struct SessionProgress {
@@ -89,6 +90,7 @@ private:
     std::uint64_t geometry_key_ = 0;        // fingerprint of what the BVH depends on
     std::uint64_t built_geometry_key_ = 0;
     std::unique_ptr<RenderScene> scene_;
+    std::unique_ptr<TextureSet> textures_;
     std::vector<std::string> warnings_;
 
     Image image_, first_pass_;

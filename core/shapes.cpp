@@ -213,4 +213,48 @@ glm::vec2 shape_uv(const Shape& shape, const glm::vec3& p, int face) {
     return {0.0f, 0.0f};
 }
 
+void shape_tangents(const Shape& shape, const glm::vec3& p, int face, glm::vec3& dpdu, glm::vec3& dpdv) {
+    constexpr float two_pi = 2.0f * pi;
+    switch (shape.kind) {
+        case ShapeKind::sphere: {
+            const float r = shape.b.x;
+            const glm::vec3 q = (p - shape.a) / r;
+            const float sin_theta = std::sqrt(std::max(0.0f, q.x * q.x + q.z * q.z));
+            dpdu = two_pi * r * glm::vec3(q.z, 0.0f, -q.x);
+            if (sin_theta > 0.0f) {
+                const float cos_theta = q.y;
+                dpdv = pi * r * glm::vec3(cos_theta * q.x / sin_theta, -sin_theta, cos_theta * q.z / sin_theta);
+            } else {
+                dpdv = glm::vec3(0.0f);
+            }
+            return;
+        }
+        case ShapeKind::box: {
+            const int axis = face / 2;
+            const int u_axis = axis == 0 ? 2 : 0, v_axis = axis == 1 ? 2 : 1;
+            const glm::vec3 extent = shape.b - shape.a;
+            dpdu = glm::vec3(0.0f);
+            dpdv = glm::vec3(0.0f);
+            dpdu[u_axis] = extent[u_axis];
+            dpdv[v_axis] = -extent[v_axis];
+            return;
+        }
+        case ShapeKind::cylinder:
+        case ShapeKind::cone:
+            if (face != 0) {
+                dpdu = {2.0f, 0.0f, 0.0f};
+                dpdv = {0.0f, 0.0f, 2.0f};
+                return;
+            }
+            dpdu = two_pi * glm::vec3(p.z, 0.0f, -p.x);
+            if (shape.kind == ShapeKind::cylinder) {
+                dpdv = {0.0f, -2.0f, 0.0f};
+            } else {
+                const float r = std::sqrt(p.x * p.x + p.z * p.z);
+                dpdv = r > 0.0f ? glm::vec3(p.x / r, -2.0f, p.z / r) : glm::vec3(0.0f, -2.0f, 0.0f);
+            }
+            return;
+    }
+}
+
 }  // namespace caustica

@@ -45,4 +45,8 @@ void shape_bounds(const Shape& shape, glm::vec3& lo, glm::vec3& hi);
 /// Surface parameters (u, v in [0,1]) of an object-space point on `face` of the shape.
 glm::vec2 shape_uv(const Shape& shape, const glm::vec3& p, int face);
 
+/// Object-space tangents dp/du and dp/dv of shape_uv's parametrisation at a surface point
+/// (zero where the parametrisation is singular, e.g. at a sphere's poles).
+void shape_tangents(const Shape& shape, const glm::vec3& p, int face, glm::vec3& dpdu, glm::vec3& dpdv);
+
 }  // namespace caustica

@@ -27,7 +27,9 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
             }
             context.integrator->scene_intersect8(rays, valid, hits, found);
             for (int i = 0; i < 8 && valid[i]; ++i) {
-                out.at(x + i, y) = found[i] ? context.integrator->shade_primary_hit(rays[i], hits[i], counters)
+                // One stream per pixel and pass: the result never depends on which thread runs the tile.
+                RandomStream random(context.seed, static_cast<std::uint64_t>(y) * out.width + x + i, 0);
+                out.at(x + i, y) = found[i] ? context.integrator->shade_primary_hit(rays[i], hits[i], random, counters)
                                             : context.integrator->background(rays[i].direction);
                 if (!found[i]) ++counters.primary;
                 ++counters.samples;
@@ -61,14 +63,13 @@ void render_antialiasing_tile(const TileContext& context, const Tile& tile, cons
                 out.at(x, y) = glm::vec3(1.0f, 0.0f, 0.0f);
                 continue;
             }
-            // One stream per pixel: the result never depends on which thread renders the tile.
             RandomStream random(context.seed, static_cast<std::uint64_t>(y) * first_pass.width + x, 1);
             glm::vec3 sum(0.0f);
             for (int sy = 0; sy < n; ++sy) {
                 for (int sx = 0; sx < n; ++sx) {
                     const float px = static_cast<float>(x) + (static_cast<float>(sx) + random.uniform()) * cell;
                     const float py = static_cast<float>(y) + (static_cast<float>(sy) + random.uniform()) * cell;
-                    sum += context.integrator->trace_camera_ray(context.camera->generate(px, py), counters);
+                    sum += context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
                     ++counters.samples;
                 }
             }
