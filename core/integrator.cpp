@@ -3,7 +3,9 @@
 #include "core/optics.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <vector>
 
 namespace caustica {
 namespace {
@@ -126,10 +128,17 @@ glm::vec3 Integrator::shade(const Ray& ray, const SurfaceHit& hit, const PathSta
     const glm::vec3 to_eye = -ray.direction;
     if (m.transparent) {
         // Transparent surfaces: their kd is the medium's colour, not a diffuse reflectance.
-        glm::vec3 colour = m.air ? glm::vec3(0.0f) : direct_light(m, kd, hit, n, to_eye, false, random, counters);
+        glm::vec3 colour = m.air || setup_.draw_caustics_only
+                               ? glm::vec3(0.0f)
+                               : direct_light(m, kd, hit, n, to_eye, false, random, counters);
         return colour + dielectric(ray, hit, m, n, path, random, counters);
     }
-    glm::vec3 colour = setup_.ambient * kd + direct_light(m, kd, hit, n, to_eye, true, random, counters);
+    glm::vec3 colour = setup_.draw_caustics_only
+                           ? glm::vec3(0.0f)
+                           : setup_.ambient * kd + direct_light(m, kd, hit, n, to_eye, true, random, counters);
+    if (setup_.caustic_map && kd != glm::vec3(0.0f)) colour += caustic_radiance(hit, n, kd, counters);
+    if (setup_.draw_caustic_map || !setup_.projection_maps.empty())
+        colour = debug_overlays(hit, glm::length(hit.position - ray.origin), colour);
     if (m.reflective && path.depth < setup_.max_depth) {
         PathState next = path;
         next.depth += 1;
@@ -143,26 +152,45 @@ glm::vec3 Integrator::shade(const Ray& ray, const SurfaceHit& hit, const PathSta
     return colour;
 }
 
+glm::vec3 Integrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
+                                       RayCounters& counters) const {
+    thread_local std::vector<Neighbour> scratch;
+    if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
+        scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
+    const auto t0 = std::chrono::steady_clock::now();
+    const glm::vec3 irradiance = setup_.caustic_map->estimate(hit.position, n, setup_.caustic_neighbours,
+                                                              setup_.caustic_max_distance, setup_.caustic_filter,
+                                                              scratch.data());
+    counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ++counters.gathers;
+    return kd * irradiance;
+}
+
+glm::vec3 Integrator::debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const {
+    // --draw-caustic-prm: tint the surface green where a light's projection map is occupied.
+    for (const auto& [map, light] : setup_.projection_maps) {
+        const glm::vec3 d = hit.position - light;
+        const float length = glm::length(d);
+        if (map && length > 0.0f && map->occupied(d / length)) colour = 0.5f * colour + glm::vec3(0.05f, 0.35f, 0.05f);
+    }
+    // --draw-caustic-map: a photon within about a pixel of the hit shows as a dot of its colour.
+    if (setup_.draw_caustic_map && setup_.caustic_map) {
+        const float radius = std::max(setup_.dot_radius_per_distance * distance, 1e-6f);
+        Neighbour one;
+        if (setup_.caustic_map->tree().nearest(hit.position, 1, radius, &one) == 1) {
+            const glm::vec3 power = setup_.caustic_map->photon(one.index).power;
+            const float peak = std::max({power.x, power.y, power.z});
+            colour = peak > 0.0f ? power / peak : glm::vec3(1.0f);
+        }
+    }
+    return colour;
+}
+
 glm::vec3 Integrator::dielectric(const Ray& ray, const SurfaceHit& hit, const Material& m, const glm::vec3& n,
                                  const PathState& path, RandomStream& random, RayCounters& counters) const {
     if (path.depth >= setup_.max_depth) return glm::vec3(0.0f);
-    // Which media meet here: the surface's inside, and its outside (explicit at a CSG interface,
-    // else whatever the ray's stack says surrounds the solid).
-    const bool entering = glm::dot(hit.normal, ray.direction) < 0.0f;
-    MediumStack after = path.media;
-    int from, to;
-    if (entering) {
-        from = hit.medium_outside >= 0 ? hit.medium_outside : path.media.top();
-        to = hit.medium_inside;
-        if (hit.medium_outside >= 0) after.remove(hit.medium_outside);
-        after.push(hit.medium_inside);
-    } else {
-        from = hit.medium_inside;
-        after.remove(hit.medium_inside);
-        if (hit.medium_outside >= 0 && after.top() != hit.medium_outside) after.push(hit.medium_outside);
-        to = after.top();
-    }
-    const float n1 = medium_index(from), n2 = medium_index(to);
+    const MediumTransition media = medium_transition(hit, ray.direction, path.media);
+    const float n1 = medium_index(media.from), n2 = medium_index(media.to);
     const float cos_i = -glm::dot(n, ray.direction);
     const float reflectance = fresnel_reflectance(n1, n2, cos_i);
     // ks is the overall specular colour, split by Fresnel (seed 1.3); an air surface is only an interface.
@@ -182,7 +210,7 @@ glm::vec3 Integrator::dielectric(const Ray& ray, const SurfaceHit& hit, const Ma
     glm::vec3 direction;
     if (reflectance < 1.0f && refract_direction(ray.direction, n, n1, n2, direction)) {
         next.weight = path.weight * specular * (1.0f - reflectance);
-        next.media = after;
+        next.media = media.after;
         if (max_component(next.weight) >= setup_.min_weight) {
             ++counters.refracted;
             const Ray refracted{hit.position, direction, eps, ray_infinity};

@@ -6,6 +6,8 @@
 #include "core/material.h"
 #include "core/medium_stack.h"
 #include "core/options.h"
+#include "core/photon_map.h"
+#include "core/projection_map.h"
 #include "core/random.h"
 #include "core/render_scene.h"
 #include "core/render_stats.h"
@@ -28,6 +30,16 @@ struct ShadingSetup {
     int shadow_grid = 4;     ///< N x N shadow samples on a spherical light
     bool soft_shadows = true;
     float unit_distance = 1.0f;
+    // Caustics (seed 1.1.3): the photon map and how it is gathered; null map = no caustics.
+    const PhotonMap* caustic_map = nullptr;
+    int caustic_neighbours = 100;
+    float caustic_max_distance = 0.15f;
+    PhotonFilter caustic_filter = PhotonFilter::none;
+    bool draw_caustics_only = false;  ///< only the caustic radiance, no ambient or direct light
+    bool draw_caustic_map = false;    ///< photons as dots
+    float dot_radius_per_distance = 0.0f;  ///< a dot's radius per unit of ray distance (about a pixel)
+    /// --draw-caustic-prm: per light, the projection map (null when not built) and its position.
+    std::vector<std::pair<const ProjectionMap*, glm::vec3>> projection_maps;
 };
 
 /// Radiance along rays; stateless apart from the counters and random stream passed in.
@@ -71,6 +83,9 @@ private:
     glm::vec3 dielectric(const Ray& ray, const SurfaceHit& hit, const Material& m, const glm::vec3& n,
                          const PathState& path, RandomStream& random, RayCounters& counters) const;
     float medium_index(int material) const;
+    glm::vec3 caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
+                               RayCounters& counters) const;
+    glm::vec3 debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const;
 
     const ShadingSetup& setup_;
 };

@@ -1,9 +1,14 @@
-// The media a ray path is inside, innermost last (material indices; empty = air, index 1).
+// The media a ray path is inside, innermost last, and how a surface hit changes them.
 #pragma once
+
+#include "core/ray.h"
+
+#include <glm/glm.hpp>
 
 namespace caustica {
 
-/// A small fixed-capacity stack: entering a transparent solid pushes it, leaving removes it.
+/// A small fixed-capacity stack of material indices: entering a transparent solid pushes it,
+/// leaving removes it. Empty means air (index 1).
 struct MediumStack {
     static constexpr int capacity = 8;
     int entries[capacity] = {};
@@ -32,5 +37,32 @@ struct MediumStack {
         }
     }
 };
+
+/// The two media that meet where a ray crosses a transparent surface.
+struct MediumTransition {
+    int from = -1;          ///< medium the ray is in (material index, -1 = air)
+    int to = -1;            ///< medium on the other side
+    MediumStack after;      ///< the ray's stack once it has crossed (for the refracted ray)
+};
+
+/// Which media meet at a hit: the surface's inside, and its outside (explicit at a CSG union
+/// interface, else whatever the ray's stack says surrounds the solid). Used alike by eye rays
+/// and photons so both see the same optics.
+inline MediumTransition medium_transition(const SurfaceHit& hit, const glm::vec3& direction, const MediumStack& media) {
+    MediumTransition t;
+    t.after = media;
+    if (glm::dot(hit.normal, direction) < 0.0f) {  // entering the solid
+        t.from = hit.medium_outside >= 0 ? hit.medium_outside : media.top();
+        t.to = hit.medium_inside;
+        if (hit.medium_outside >= 0) t.after.remove(hit.medium_outside);
+        t.after.push(hit.medium_inside);
+    } else {  // leaving it
+        t.from = hit.medium_inside;
+        t.after.remove(hit.medium_inside);
+        if (hit.medium_outside >= 0 && t.after.top() != hit.medium_outside) t.after.push(hit.medium_outside);
+        t.to = t.after.top();
+    }
+    return t;
+}
 
 }  // namespace caustica

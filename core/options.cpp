@@ -165,6 +165,20 @@ const std::vector<OptionSpec>& option_table() {
                                 : o.projection_map == ProjectionMapMode::off ? "off"
                                                                              : "auto");
          }},
+        {"caustic-filter", 0, "none|cone", "caustics", "radiance-estimate filter: the seed's disc average, or Jensen's cone",
+         [](Options& o, const std::string& v) {
+             if (v == "none") o.caustic_cone_filter = false;
+             else if (v == "cone") o.caustic_cone_filter = true;
+             else throw InputError("--caustic-filter: expected none or cone, got '" + v + "'");
+         },
+         [](const Options& o) { return std::string(o.caustic_cone_filter ? "cone" : "none"); }},
+        {"photon-emission", 0, "ld|random", "caustics", "photon directions: low-discrepancy (Hammersley) or random",
+         [](Options& o, const std::string& v) {
+             if (v == "ld") o.photon_random_emission = false;
+             else if (v == "random") o.photon_random_emission = true;
+             else throw InputError("--photon-emission: expected ld or random, got '" + v + "'");
+         },
+         [](const Options& o) { return std::string(o.photon_random_emission ? "random" : "ld"); }},
         real("unit-distance", "caustics", "scene length unit for photon energies", &Options::unit_distance, 0.0, huge,
              true),
         real("energy-fudge", "caustics", "scale factor on photon energy", &Options::energy_fudge, 0.0, huge),

@@ -45,6 +45,8 @@ struct Options {
     int shadow_grid = 4;
     double unit_distance = 1.0;
     double energy_fudge = 1.0;
+    bool caustic_cone_filter = false;  ///< Jensen's cone filter instead of the plain disc average
+    bool photon_random_emission = false;  ///< independent random photon directions instead of low-discrepancy
     int max_depth = 8;             ///< recursion limit for reflection/refraction
     double min_weight = 1e-3;      ///< stop a ray path when its weight falls below this
     double script_timeout = 60.0;  ///< seconds of script evaluation, 0 = none

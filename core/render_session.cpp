@@ -1,6 +1,7 @@
 #include "core/render_session.h"
 
 #include "core/camera.h"
+#include "core/caustic_stage.h"
 #include "core/integrator.h"
 #include "core/random.h"
 #include "core/render_scene.h"
@@ -96,6 +97,7 @@ void RenderSession::set_job(const RenderJob& job) {
     const int size = job_.options.resolution_override;
     if (size > 0) job_.width = job_.height = size;
     geometry_key_ = geometry_fingerprint(job_);
+    caustic_key_ = caustics_needed(job_) ? caustic_fingerprint(job_, geometry_key_) : 0;
 }
 
 void RenderSession::set_stage(const char* name) {
@@ -105,6 +107,11 @@ void RenderSession::set_stage(const char* name) {
 
 void RenderSession::prepare() {
     if (!job_.scene) throw InputError("no scene to render");
+    prepare_scene();
+    prepare_caustics();
+}
+
+void RenderSession::prepare_scene() {
     if (scene_ && built_geometry_key_ == geometry_key_) {
         std::lock_guard lock(mutex_);
         stats_.stages.push_back({"scene build", 0.0, true});
@@ -115,6 +122,7 @@ void RenderSession::prepare() {
     FlatScene flat = flatten_scene(*job_.scene, job_.root, job_.options.a4);
     scene_.reset();
     textures_.reset();
+    caustics_ = std::make_unique<CausticStage>();  // depends on the geometry
     scene_ = std::make_unique<RenderScene>(*job_.scene, flat);
     textures_ = std::make_unique<TextureSet>(*job_.scene);
     built_geometry_key_ = geometry_key_;
@@ -128,6 +136,28 @@ void RenderSession::prepare() {
     stats_.unique_meshes = info.unique_meshes;
     stats_.triangles_stored = info.triangles_stored;
     stats_.triangles_instanced = info.triangles_instanced;
+}
+
+void RenderSession::prepare_caustics() {
+    if (!caustics_) caustics_ = std::make_unique<CausticStage>();
+    if (caustic_key_ == 0) {  // no photon pass: nothing specular, no photons, or disabled
+        *caustics_ = CausticStage{};
+        return;
+    }
+    if (caustics_->key == caustic_key_) {
+        std::lock_guard lock(mutex_);
+        stats_.stages.push_back({"photon pass", 0.0, true});
+        return;
+    }
+    set_stage("shooting photons");
+    build_caustic_stage(*caustics_, *scene_, job_, &cancel_requested_);
+    caustics_->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
+    std::lock_guard lock(mutex_);
+    ++counters_.photon_passes;
+    stats_.stages.push_back({"projection maps", caustics_->map_seconds, false});
+    stats_.stages.push_back({"photon shooting", caustics_->shoot_seconds, false});
+    stats_.stages.push_back({"photon k-d tree", caustics_->tree_seconds, false});
+    for (const std::string& w : caustics_->warnings) warnings_.push_back(w);
 }
 
 void RenderSession::start() {
@@ -151,8 +181,13 @@ void RenderSession::start() {
 
 void RenderSession::run() {
     try {
-        prepare();
-        render_passes();
+        const int threads = job_.options.threads > 0 ? job_.options.threads : tbb::info::default_concurrency();
+        tbb::task_arena arena(threads);
+        FlushDenormals flush(arena);
+        arena.execute([&] {
+            prepare();
+            if (!cancel_requested_) render_passes(arena, threads);
+        });
     } catch (...) {
         error_ = std::current_exception();
     }
@@ -165,17 +200,13 @@ void RenderSession::run() {
     running_ = false;
 }
 
-void RenderSession::render_passes() {
+void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     const Options& options = job_.options;
     const int width = job_.width, height = job_.height;
     const Camera camera(job_.camera, width, height);
     ShadingSetup setup;
     setup.scene = scene_.get();
-    for (int index : job_.lights) {
-        const LightDesc& d = job_.scene->lights.at(index);
-        setup.lights.push_back({glm::vec3(d.position), glm::vec3(d.colour), glm::vec3(d.falloff),
-                                static_cast<float>(d.radius)});
-    }
+    setup.lights = job_lights(job_);
     setup.ambient = glm::vec3(job_.ambient);
     setup.miss_colour = glm::vec3(job_.miss_colour);
     setup.sky = options.rays;
@@ -185,6 +216,20 @@ void RenderSession::render_passes() {
     setup.soft_shadows = !options.no_soft_shadows;
     setup.unit_distance = static_cast<float>(options.unit_distance);
     setup.textures = textures_.get();
+    if (caustics_ && caustics_->map) {
+        setup.caustic_map = caustics_->map.get();
+        setup.caustic_neighbours = options.caustic_num_neighbours;
+        setup.caustic_max_distance = static_cast<float>(options.effective_caustic_max_dist());
+        setup.caustic_filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
+    }
+    setup.draw_caustics_only = options.draw_caustics_only;
+    setup.draw_caustic_map = options.draw_caustic_map;
+    setup.dot_radius_per_distance =
+        static_cast<float>(std::tan(glm::radians(job_.camera.fovy_degrees) * 0.5) * 2.0 / height);
+    if (options.draw_caustic_prm && caustics_)
+        for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
+            if (!caustics_->projection_maps[l].empty())
+                setup.projection_maps.emplace_back(&caustics_->projection_maps[l], caustics_->light_positions[l]);
     const Integrator integrator(setup);
 
     TileContext context;
@@ -204,9 +249,6 @@ void RenderSession::render_passes() {
         progress_.tiles_total = tiles.size() * progress_.passes;
     }
     image_ = Image(width, height);
-    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
-    tbb::task_arena arena(threads);
-    FlushDenormals flush(arena);
     tbb::enumerable_thread_specific<RayCounters> counters;
 
     auto run_pass = [&](const char* name, int pass, auto&& body) {
@@ -244,6 +286,9 @@ void RenderSession::render_passes() {
     std::lock_guard lock(mutex_);
     stats_.rays = total;
     stats_.threads = threads;
+    stats_.caustic_lights = caustics_ ? caustics_->lights : std::vector<LightCausticStats>{};
+    stats_.caustic_photons = caustics_ && caustics_->map ? caustics_->map->size() : 0;
+    stats_.caustic_map_bytes = caustics_ && caustics_->map ? caustics_->map->memory_bytes() : 0;
     ++counters_.renders;
 }
 

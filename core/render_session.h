@@ -8,6 +8,8 @@
 #include "core/render_stats.h"
 #include "core/scene_desc.h"
 
+#include <tbb/task_arena.h>
+
 #include <atomic>
 #include <cstdint>
 #include <exception>
@@ -21,6 +23,7 @@ namespace caustica {
 
 class RenderScene;
 class TextureSet;
+struct CausticStage;
 
 /// A consistent view of how far the current render is.
 struct SessionProgress {
@@ -77,18 +80,23 @@ public:
     /// How many times each stage has actually been computed (for tests of caching).
     struct StageCounters {
         int scene_builds = 0;
+        int photon_passes = 0;
         int renders = 0;
     };
     StageCounters stage_counters() const;
 
 private:
     void run();                 // the background thread's body
-    void render_passes();       // both image passes on the thread pool
+    void prepare_scene();       // flattening, BVH, textures
+    void prepare_caustics();    // projection maps, photons, k-d tree
+    void render_passes(tbb::task_arena& arena, int threads);  // both image passes
     void set_stage(const char* name);
 
     RenderJob job_;
     std::uint64_t geometry_key_ = 0;        // fingerprint of what the BVH depends on
     std::uint64_t built_geometry_key_ = 0;
+    std::uint64_t caustic_key_ = 0;         // fingerprint of what the photon map depends on, 0 = none
+    std::unique_ptr<CausticStage> caustics_;
     std::unique_ptr<RenderScene> scene_;
     std::unique_ptr<TextureSet> textures_;
     std::vector<std::string> warnings_;

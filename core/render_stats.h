@@ -15,10 +15,13 @@ struct RayCounters {
     std::uint64_t refracted = 0;
     std::uint64_t samples = 0;           ///< camera samples taken
     std::uint64_t supersampled_pixels = 0;
+    std::uint64_t gathers = 0;           ///< caustic radiance estimates
+    double gather_seconds = 0.0;         ///< time spent in them (summed over threads)
 
     RayCounters& operator+=(const RayCounters& o) {
         primary += o.primary, shadow += o.shadow, reflected += o.reflected, refracted += o.refracted;
         samples += o.samples, supersampled_pixels += o.supersampled_pixels;
+        gathers += o.gathers, gather_seconds += o.gather_seconds;
         return *this;
     }
     std::uint64_t total_rays() const { return primary + shadow + reflected + refracted; }
@@ -31,6 +34,13 @@ struct StageTime {
     bool cached = false;  ///< reused from a previous render, not recomputed
 };
 
+/// The caustic photon pass of one light, for -S.
+struct LightCausticStats {
+    long long candidates = 0, traced = 0, stored = 0;
+    bool projection_map_used = false;
+    double occupied_fraction = 1.0;
+};
+
 /// Everything -S and -t report.
 struct RenderStats {
     RayCounters rays;
@@ -39,6 +49,8 @@ struct RenderStats {
     std::size_t triangles_stored = 0, triangles_instanced = 0;
     int threads = 0;
     double total_seconds = 0.0;
+    std::vector<LightCausticStats> caustic_lights;
+    std::size_t caustic_photons = 0, caustic_map_bytes = 0;
 };
 
 }  // namespace caustica

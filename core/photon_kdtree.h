@@ -1,0 +1,63 @@
+// Our photon k-D tree (seed 1.1.4): built in O(n log n) by median selection (nth_element, not a
+// sort), stored flat (one node array, photons reordered so every leaf is a contiguous run), with
+// N-nearest queries bounded by a maximum distance through a fixed-size max-heap.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace caustica {
+
+/// One neighbour found by a query: the photon's index (in tree order) and squared distance.
+struct Neighbour {
+    float distance2;
+    std::uint32_t index;
+    bool operator<(const Neighbour& o) const { return distance2 < o.distance2; }
+};
+
+/// A static 3-d tree over points; the caller keeps per-point data in `order()` order.
+class PhotonKdTree {
+public:
+    /// Photons per leaf; small runs are scanned linearly, which beats descending further.
+    static constexpr std::uint32_t leaf_size = 12;
+
+    PhotonKdTree() = default;
+
+    /// Builds the tree over `points`. Afterwards point i of the tree is `points[order()[i]]`.
+    explicit PhotonKdTree(std::vector<glm::vec3> points);
+
+    /// Finds up to `k` nearest points within `max_distance` of `query`, nearest first... in heap
+    /// order (the farthest is `result[0]`); returns how many were found. `result` must hold `k`.
+    std::uint32_t nearest(const glm::vec3& query, std::uint32_t k, float max_distance, Neighbour* result) const;
+
+    /// The points in tree order.
+    const std::vector<glm::vec3>& points() const { return points_; }
+    /// For each tree position, the index the point had in the input.
+    const std::vector<std::uint32_t>& order() const { return order_; }
+    std::size_t size() const { return points_.size(); }
+    /// Bounds of all points (empty tree: lo > hi).
+    glm::vec3 bounds_lo() const { return lo_; }
+    glm::vec3 bounds_hi() const { return hi_; }
+    /// Bytes held by the tree (nodes, points, order).
+    std::size_t memory_bytes() const;
+
+private:
+    /// Inner node: split plane and right child; leaf: a run of points. 16 bytes.
+    struct Node {
+        float split;
+        std::uint32_t axis_or_leaf;  ///< 0..2 = split axis, 3 = leaf
+        std::uint32_t a, b;          ///< inner: right child (left is the next node); leaf: [a, b)
+    };
+    static constexpr std::uint32_t leaf_tag = 3;
+
+    struct Builder;
+
+    std::vector<Node> nodes_;
+    std::vector<glm::vec3> points_;
+    std::vector<std::uint32_t> order_;
+    glm::vec3 lo_{1.0f}, hi_{-1.0f};
+};
+
+}  // namespace caustica

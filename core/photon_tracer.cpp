@@ -1,0 +1,184 @@
+#include "core/photon_tracer.h"
+
+#include "core/medium_stack.h"
+#include "core/optics.h"
+#include "core/random.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace caustica {
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+constexpr long long block_size = 4096;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+float mean(const glm::vec3& v) { return (v.x + v.y + v.z) / 3.0f; }
+
+/// Van der Corput radical inverse in base 2.
+float radical_inverse2(std::uint32_t i) {
+    i = (i << 16) | (i >> 16);
+    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
+    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
+    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
+    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
+    return static_cast<float>(i >> 8) * (1.0f / 16777216.0f);
+}
+
+/// Uniform direction on the sphere from a point of the unit square (area-preserving).
+glm::vec3 sphere_direction(float u, float v) {
+    const float y = 1.0f - 2.0f * u;
+    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+    const float phi = 2.0f * static_cast<float>(pi) * v;
+    return {r * std::cos(phi), y, r * std::sin(phi)};
+}
+
+/// Traces one photon; appends it to `out` if it ends on a diffuse surface after a specular bounce.
+void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_depth, float unit_distance,
+                  RandomStream& random, std::vector<Photon>& out) {
+    const auto& materials = scene.materials();
+    const float eps = scene.epsilon();
+    MediumStack media;
+    int specular_bounces = 0;
+    for (int depth = 0; depth <= max_depth; ++depth) {
+        SurfaceHit hit;
+        if (!scene.intersect(ray, hit)) return;
+        if (const int medium = media.top(); medium >= 0)
+            power *= medium_transmittance(materials[medium].medium_colour, hit.t, unit_distance);
+        const Material& m = materials[hit.material];
+        // A diffuse surface reached after a specular interaction stores the photon (an L S+ D
+        // path); its incident power is kept, kd is applied when the estimate is shaded.
+        if (!m.transparent && m.kd != glm::vec3(0.0f) && specular_bounces > 0)
+            out.push_back({hit.position, power, ray.direction});
+        // Russian roulette decides what happens next (seed 1.1.1). Diffuse reflection ends a
+        // caustic path (the caustic map holds no diffuse bounce); so does absorption.
+        const RouletteOdds odds = roulette_odds(m);
+        const float xi = random.uniform();
+        if (xi < odds.diffuse || xi >= odds.diffuse + odds.specular) return;
+        const glm::vec3 ks = m.air ? glm::vec3(1.0f) : m.ks;
+        power *= ks / odds.specular;
+        const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
+        ++specular_bounces;
+        if (!m.transparent) {
+            ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
+            continue;
+        }
+        const MediumTransition t = medium_transition(hit, ray.direction, media);
+        const float n1 = t.from < 0 ? 1.0f : materials[t.from].refractive_index;
+        const float n2 = t.to < 0 ? 1.0f : materials[t.to].refractive_index;
+        const float reflectance = fresnel_reflectance(n1, n2, -glm::dot(n, ray.direction));
+        glm::vec3 refracted;
+        if (random.uniform() >= reflectance && refract_direction(ray.direction, n, n1, n2, refracted)) {
+            media = t.after;
+            ray = Ray{hit.position, refracted, eps, ray_infinity};
+        } else {
+            ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
+        }
+    }
+}
+
+}  // namespace
+
+glm::vec3 photon_energy(const Light& light, double unit_distance, long long photons, double fudge) {
+    const double scale = 4.0 * pi * unit_distance * unit_distance / (light.falloff.z * static_cast<double>(photons));
+    return glm::vec3(light.colour) * static_cast<float>(scale * fudge);
+}
+
+RouletteOdds roulette_odds(const Material& m) {
+    RouletteOdds odds;
+    if (m.air) {
+        odds.specular = 1.0f;
+        return odds;
+    }
+    odds.diffuse = m.transparent ? 0.0f : mean(m.kd);
+    odds.specular = (m.reflective || m.transparent) ? mean(m.ks) : 0.0f;
+    return odds;
+}
+
+double photon_memory_bound(long long photons, std::size_t lights) {
+    // Stored photon, tree position, order entry and node share, plus the per-block buffers' slack.
+    constexpr double bytes_per_photon = sizeof(Photon) * 2 + sizeof(glm::vec3) + 4 + 16.0 / 6.0;
+    return static_cast<double>(photons) * static_cast<double>(lights) * bytes_per_photon;
+}
+
+PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vector<Light>& lights,
+                                       const PhotonPassSettings& settings, const std::atomic<bool>* cancel) {
+    PhotonPassResult result;
+    result.maps.resize(lights.size());
+    result.lights.resize(lights.size());
+    const long long count = settings.photons_per_light;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const Light& light = lights[l];
+        LightPhotonReport& report = result.lights[l];
+        if (!(light.falloff.z > 0.0f)) {
+            report.warning = "has no quadratic falloff (c2 = 0), so it gets no caustic photons";
+            continue;
+        }
+        if (settings.projection_map != ProjectionMapMode::off) {
+            const auto t0 = std::chrono::steady_clock::now();
+            ProjectionMap map(settings.projection_map_granularity);
+            map.build(scene, light.position);
+            report.occupied_fraction = map.occupied_fraction();
+            // The map pays unless nearly every direction is occupied (measured: docs/PERFORMANCE.md).
+            report.projection_map_used =
+                settings.projection_map == ProjectionMapMode::on || report.occupied_fraction < 0.9;
+            result.maps[l] = std::move(map);
+            report.map_seconds = seconds_since(t0);
+        }
+        const ProjectionMap* map = report.projection_map_used ? &result.maps[l] : nullptr;
+        const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
+        const auto t0 = std::chrono::steady_clock::now();
+        const long long blocks = (count + block_size - 1) / block_size;
+        std::vector<std::vector<Photon>> stored(static_cast<std::size_t>(blocks));
+        std::vector<long long> traced(static_cast<std::size_t>(blocks), 0);
+        RandomStream rotation_stream(settings.seed, 0x70686f746f6e ^ l, 7);
+        const float rotate_u = rotation_stream.uniform(), rotate_v = rotation_stream.uniform();
+        tbb::parallel_for(tbb::blocked_range<long long>(0, blocks, 1), [&](const tbb::blocked_range<long long>& r) {
+            for (long long b = r.begin(); b != r.end(); ++b) {
+                if (cancel && cancel->load(std::memory_order_relaxed)) return;
+                const long long end = std::min(count, (b + 1) * block_size);
+                for (long long i = b * block_size; i < end; ++i) {
+                    RandomStream random(settings.seed, (static_cast<std::uint64_t>(l) << 40) ^ static_cast<std::uint64_t>(i), 3);
+                    float u, v;
+                    if (settings.emission == PhotonEmission::low_discrepancy) {
+                        u = (static_cast<float>(i) + 0.5f) / static_cast<float>(count) + rotate_u;
+                        v = radical_inverse2(static_cast<std::uint32_t>(i)) + rotate_v;
+                        u -= std::floor(u);
+                        v -= std::floor(v);
+                    } else {
+                        u = random.uniform();
+                        v = random.uniform();
+                    }
+                    const glm::vec3 direction = sphere_direction(u, v);
+                    if (map && !map->occupied(direction)) continue;
+                    ++traced[b];
+                    glm::vec3 origin = light.position;
+                    if (light.radius > 0.0f) {  // spherical light: leave from its surface
+                        glm::vec3 s = sphere_direction(random.uniform(), random.uniform());
+                        if (glm::dot(s, direction) < 0.0f) s = -s;
+                        origin += light.radius * s;
+                    }
+                    trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, energy, settings.max_depth,
+                                 static_cast<float>(settings.unit_distance), random, stored[b]);
+                }
+            }
+        });
+        report.candidates = count;
+        for (long long b = 0; b < blocks; ++b) {
+            report.traced += traced[b];
+            report.stored += static_cast<long long>(stored[b].size());
+            result.photons.insert(result.photons.end(), stored[b].begin(), stored[b].end());
+        }
+        report.shoot_seconds = seconds_since(t0);
+    }
+    return result;
+}
+
+}  // namespace caustica

@@ -1,0 +1,381 @@
+// Caustics: the k-D tree against brute force, the energy rule and radiance estimate against
+// closed forms, and the virtual-light test of the whole photon pipeline.
+#include "core/camera.h"
+#include "core/caustic_stage.h"
+#include "core/photon_kdtree.h"
+#include "core/photon_map.h"
+#include "core/photon_tracer.h"
+#include "core/scene_flatten.h"
+#include "core/source_location.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace caustica;
+using caustica::testing::JobBuilder;
+
+namespace {
+
+constexpr float pi = 3.14159265358979f;
+
+/// Points clustered on a few planes and spheres, like a caustic map.
+std::vector<glm::vec3> clustered_points(std::size_t n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<glm::vec3> points(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const float a = u(rng), b = u(rng);
+        switch (i % 3) {
+            case 0: points[i] = {a * 4.0f - 2.0f, 0.0f, b * 4.0f - 2.0f}; break;             // floor
+            case 1: points[i] = {0.3f * std::cos(6.28f * a), 0.0f, 0.3f * std::sin(6.28f * a) + 0.05f * b}; break;  // ring
+            default: points[i] = {0.2f * a, 0.001f * b, 0.2f * u(rng)}; break;                // bright spot
+        }
+    }
+    return points;
+}
+
+std::vector<float> brute_force(const std::vector<glm::vec3>& points, glm::vec3 q, std::size_t k, float max_distance) {
+    std::vector<float> d2;
+    for (const glm::vec3& p : points) {
+        const float d = glm::dot(p - q, p - q);
+        if (d < max_distance * max_distance) d2.push_back(d);
+    }
+    std::sort(d2.begin(), d2.end());
+    if (d2.size() > k) d2.resize(k);
+    return d2;
+}
+
+}  // namespace
+
+TEST(KdTree, MatchesBruteForce) {
+    const std::vector<glm::vec3> points = clustered_points(20000, 1);
+    const PhotonKdTree tree(points);
+    ASSERT_EQ(tree.size(), points.size());
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+    std::vector<Neighbour> result(200);
+    for (int query = 0; query < 200; ++query) {
+        const glm::vec3 q(u(rng) * 0.5f, u(rng) * 0.01f, u(rng) * 0.5f);
+        for (std::uint32_t k : {1u, 10u, 200u}) {
+            for (float max_distance : {0.01f, 0.1f, 10.0f}) {
+                const std::uint32_t found = tree.nearest(q, k, max_distance, result.data());
+                std::vector<float> got;
+                for (std::uint32_t i = 0; i < found; ++i) {
+                    got.push_back(result[i].distance2);
+                    const glm::vec3 p = tree.points()[result[i].index];  // index is in tree order
+                    EXPECT_FLOAT_EQ(glm::dot(p - q, p - q), result[i].distance2);
+                    EXPECT_EQ(p, points[tree.order()[result[i].index]]);
+                }
+                std::sort(got.begin(), got.end());
+                ASSERT_EQ(got, brute_force(points, q, k, max_distance)) << "k " << k << " max " << max_distance;
+            }
+        }
+    }
+}
+
+TEST(KdTree, DegenerateInputs) {
+    std::vector<Neighbour> result(64);
+    EXPECT_EQ(PhotonKdTree(std::vector<glm::vec3>{}).nearest({0, 0, 0}, 10, 1.0f, result.data()), 0u);
+    // All photons at one point: every query finds them, at distance 0 when on the spot.
+    const PhotonKdTree same(std::vector<glm::vec3>(1000, glm::vec3(1, 2, 3)));
+    EXPECT_EQ(same.nearest({1, 2, 3}, 50, 0.1f, result.data()), 50u);
+    EXPECT_EQ(result[0].distance2, 0.0f);
+    EXPECT_EQ(same.nearest({1, 2, 3.2f}, 50, 0.1f, result.data()), 0u);  // out of reach
+    // k larger than the photons stored.
+    const PhotonKdTree few(std::vector<glm::vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    EXPECT_EQ(few.nearest({0, 0, 0}, 64, 10.0f, result.data()), 3u);
+}
+
+TEST(EnergyRule, MatchesTheSeedFormula) {
+    Light light;
+    light.colour = {0.5f, 1.0f, 2.0f};
+    light.falloff = {0.0f, 0.0f, 2.0f};
+    const glm::vec3 e = photon_energy(light, 3.0, 1000, 1.5);
+    // E = 4 pi d_u^2 C / (f P) x fudge
+    EXPECT_NEAR(e.y, 4.0f * pi * 9.0f * 1.0f / (2.0f * 1000.0f) * 1.5f, 1e-6f);
+    EXPECT_NEAR(e.x / e.y, 0.5f, 1e-6f);
+}
+
+TEST(Roulette, SeedProbabilities) {
+    Material m;
+    m.kd = glm::vec3(0.3f);
+    m.ks = glm::vec3(0.1f);
+    m.reflective = true;
+    const RouletteOdds odds = roulette_odds(m);
+    EXPECT_NEAR(odds.diffuse, 0.3f, 1e-6f);   // the seed's example: 0.9 / 3
+    EXPECT_NEAR(odds.specular, 0.1f, 1e-6f);  // 0.3 / 3
+    m.reflective = false;                     // a Phong highlight is not a specular interaction
+    EXPECT_EQ(roulette_odds(m).specular, 0.0f);
+}
+
+TEST(RadianceEstimate, UniformDensityGivesPowerOverArea) {
+    // Photons on a grid of spacing h in the plane z = 0, each of power p, arriving from +z.
+    const float h = 0.01f, p = 0.002f;
+    std::vector<Photon> photons;
+    for (int i = -100; i <= 100; ++i)
+        for (int j = -100; j <= 100; ++j) photons.push_back({{i * h, j * h, 0.0f}, glm::vec3(p), {0, 0, -1}});
+    const PhotonMap map(std::move(photons));
+    std::vector<Neighbour> scratch(400);
+    const float expected = p / (h * h);
+    for (int k : {50, 100, 400}) {
+        const glm::vec3 e = map.estimate({0.0013f, -0.0021f, 0.0f}, {0, 0, 1}, k, 1.0f, PhotonFilter::none, scratch.data());
+        EXPECT_NEAR(e.x / expected, 1.0f, 0.08f) << k;  // the grid's discreteness at small k
+        const glm::vec3 c = map.estimate({0.0013f, -0.0021f, 0.0f}, {0, 0, 1}, k, 1.0f, PhotonFilter::cone, scratch.data());
+        EXPECT_NEAR(c.x / expected, 1.0f, 0.08f) << k;
+    }
+    // Photons arriving from the back side do not count.
+    EXPECT_EQ(map.estimate({0, 0, 0}, {0, 0, -1}, 100, 1.0f, PhotonFilter::none, scratch.data()), glm::vec3(0.0f));
+}
+
+TEST(RadianceEstimate, FewerThanNPhotonsUseTheSearchDisc) {
+    const PhotonMap map(std::vector<Photon>{{{0, 0, 0}, glm::vec3(1.0f), {0, -1, 0}}});
+    std::vector<Neighbour> scratch(100);
+    const glm::vec3 e = map.estimate({0.01f, 0, 0}, {0, 1, 0}, 100, 0.5f, PhotonFilter::none, scratch.data());
+    EXPECT_NEAR(e.x, 1.0f / (pi * 0.25f), 1e-5f);  // not 1 / (pi 0.01^2): no hot spot
+    EXPECT_NEAR(map.estimate({0, 0, 0}, {0, 1, 0}, 1, 0.5f, PhotonFilter::none, scratch.data()).x, 0.0f, 0.0f)
+        << "N = 1 on top of the photon: a zero-area disc gives no estimate rather than infinity";
+}
+
+namespace {
+
+/// The virtual-light scene: a diffuse ceiling lit only through a large mirror below a point
+/// light, whose direct light is stopped by a small black blocker just above it.
+/// With `mirrored_light`, the mirror is gone and a light of intensity ks I sits at the mirror image.
+JobBuilder virtual_light_scene(bool mirrored_light, double scale = 1.0) {
+    JobBuilder b(48, 48);
+    const int root = b.add(NodeKind::group, -1);
+    b.scale(root, glm::dvec3(scale));
+    const int ceiling = b.add(NodeKind::cube, b.material({0.8, 0.8, 0.8}), root);
+    b.translate(ceiling, {0, 3, 0});
+    b.scale(ceiling, {2, 0.05, 2});
+    const int blocker = b.add(NodeKind::cube, b.material({0, 0, 0}), root);
+    b.translate(blocker, {0, 1.1, 0});
+    b.scale(blocker, {0.15, 0.005, 0.15});
+    const double ks = 0.9;
+    if (!mirrored_light) {
+        const int mirror = b.add(NodeKind::cube, b.material({0, 0, 0}, glm::dvec3(ks), 0, true), root);
+        b.translate(mirror, {0, -0.025, 0});
+        b.scale(mirror, {3, 0.025, 3});
+        b.light(glm::dvec3(0, 1, 0) * scale, {1, 1, 1}, {0, 0, 1});
+    } else {
+        b.light(glm::dvec3(0, -1, 0) * scale, glm::dvec3(ks), {0, 0, 1.0});
+    }
+    b.camera(glm::dvec3(0, 0.5, 0) * scale, {0, 1, 0}, 90, {0, 0, -1});
+    b.job.options.disable_aa = true;
+    b.job.options.unit_distance = scale;
+    return b;
+}
+
+/// Mean red value over the pixels that see the ceiling between radii 0.5 and 1.8 around its centre.
+double annulus_mean(const Image& image, const RenderJob& job, double scale) {
+    const Camera camera(job.camera, job.width, job.height);
+    double sum = 0.0;
+    int count = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const Ray ray = camera.generate(x + 0.5f, y + 0.5f);
+            const float t = (2.95f * scale - ray.origin.y) / ray.direction.y;
+            const glm::vec3 p = (ray.origin + t * ray.direction) / static_cast<float>(scale);
+            const float r = std::sqrt(p.x * p.x + p.z * p.z);
+            if (r < 0.5f || r > 1.8f) continue;
+            sum += image.at(x, y).x;
+            ++count;
+        }
+    return sum / count;
+}
+
+}  // namespace
+
+TEST(VirtualLight, MirrorCausticMatchesALightAtTheMirroredPosition) {
+    JobBuilder reference = virtual_light_scene(true);
+    const RenderJob reference_job = reference.build();
+    const double expected = annulus_mean(caustica::testing::render(reference_job), reference_job, 1.0);
+    EXPECT_GT(expected, 0.02);
+    for (ProjectionMapMode mode : {ProjectionMapMode::on, ProjectionMapMode::off}) {
+        JobBuilder b = virtual_light_scene(false);
+        b.job.options.caustic_num_photons = 1'000'000;
+        b.job.options.caustic_num_neighbours = 100;
+        b.job.options.caustic_max_dist = 0.3;
+        b.job.options.projection_map = mode;
+        b.job.options.draw_caustics_only = true;
+        const RenderJob job = b.build();
+        const double mean = annulus_mean(caustica::testing::render(job), job, 1.0);
+        std::printf("virtual light: reference %.5f, photons %.5f (ratio %.4f)\n", expected, mean, mean / expected);
+        // Tolerance: the N/(N-1) bias of the k-th-neighbour disc (1%) plus noise averaged over
+        // ~1000 pixels (under 1%): 3%.
+        EXPECT_NEAR(mean / expected, 1.0, 0.03) << (mode == ProjectionMapMode::on ? "map on" : "map off");
+    }
+}
+
+TEST(VirtualLight, ScaledSceneWithScaledUnitDistanceGivesTheSameCaustics) {
+    double means[3];
+    int i = 0;
+    for (double scale : {1e-3, 1.0, 1e4}) {
+        JobBuilder b = virtual_light_scene(false, scale);
+        b.job.options.caustic_num_photons = 200'000;
+        b.job.options.draw_caustics_only = true;
+        const RenderJob job = b.build();
+        means[i++] = annulus_mean(caustica::testing::render(job), job, scale);
+    }
+    std::printf("scale: %.6f %.6f %.6f\n", means[0], means[1], means[2]);
+    EXPECT_NEAR(means[0] / means[1], 1.0, 0.01);
+    EXPECT_NEAR(means[2] / means[1], 1.0, 0.01);
+}
+
+TEST(Photons, ReproducibleForAnyThreadCount) {
+    JobBuilder b = virtual_light_scene(false);
+    const RenderJob job = b.build();
+    const RenderScene scene(*job.scene, flatten_scene(*job.scene, job.root, false));
+    PhotonPassSettings settings;
+    settings.photons_per_light = 50'000;
+    auto shoot = [&](int threads) {
+        tbb::task_arena arena(threads);
+        PhotonPassResult r;
+        arena.execute([&] { r = shoot_caustic_photons(scene, job_lights(job), settings, nullptr); });
+        return r;
+    };
+    const PhotonPassResult one = shoot(1), two = shoot(2);
+    ASSERT_EQ(one.photons.size(), two.photons.size());
+    ASSERT_GT(one.photons.size(), 1000u);
+    for (std::size_t i = 0; i < one.photons.size(); ++i) {
+        ASSERT_EQ(one.photons[i].position, two.photons[i].position);
+        ASSERT_EQ(one.photons[i].power, two.photons[i].power);
+    }
+}
+
+TEST(Photons, ZeroOneAndRefusedCounts) {
+    JobBuilder b = virtual_light_scene(false);
+    b.job.options.caustic_num_photons = 0;
+    EXPECT_FALSE(caustics_needed(b.build()));
+    b.job.options.caustic_num_photons = 1;
+    const Image one = caustica::testing::render(b.build());  // one photon: no crash, no NaN
+    for (const glm::vec3& p : one.pixels) ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    b.job.options.caustic_num_photons = 100'000'000'000LL;
+    try {
+        check_photon_memory(b.build());
+        FAIL() << "expected a refusal";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("--caustic-num-photons"), std::string::npos);
+    }
+}
+
+TEST(Photons, NoSpecularObjectMeansNoPhotonPass) {
+    JobBuilder b(16, 16);
+    b.add(NodeKind::sphere, b.material({0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}, 10));  // highlight, not a mirror
+    b.light({0, 3, 0}, {1, 1, 1}, {0, 0, 1});
+    b.job.options.caustic_num_photons = 1000;
+    EXPECT_FALSE(caustics_needed(b.build()));
+}
+
+TEST(Photons, LightWithoutQuadraticFalloffWarnsAndShootsNothing) {
+    JobBuilder b = virtual_light_scene(false);
+    b.scene->lights[0].falloff = {1, 0, 0};
+    b.job.options.caustic_num_photons = 10'000;
+    RenderSession session;
+    session.set_job(b.build());
+    session.start();
+    ASSERT_TRUE(session.wait());
+    bool warned = false;
+    for (const std::string& w : session.warnings()) warned |= w.find("no quadratic falloff") != std::string::npos;
+    EXPECT_TRUE(warned);
+    EXPECT_EQ(session.stats().caustic_photons, 0u);
+}
+
+TEST(Photons, LightInsideAGlassSphereStillMakesCaustics) {
+    JobBuilder b(16, 16);
+    const int floor = b.add(NodeKind::cube, b.material({0.8, 0.8, 0.8}));
+    b.translate(floor, {0, -2, 0});
+    b.scale(floor, {5, 0.1, 5});
+    MaterialDesc glass;
+    glass.ks = glm::dvec3(0.9);
+    glass.refractive_index = 1.5;
+    b.scene->materials.push_back(glass);
+    b.add(NodeKind::sphere, static_cast<int>(b.scene->materials.size()) - 1);
+    b.light({0, 0, 0}, {1, 1, 1}, {0, 0, 1});
+    b.job.options.caustic_num_photons = 20'000;
+    RenderSession session;
+    session.set_job(b.build());
+    session.start();
+    ASSERT_TRUE(session.wait());
+    const RenderStats stats = session.stats();
+    ASSERT_EQ(stats.caustic_lights.size(), 1u);
+    EXPECT_FALSE(stats.caustic_lights[0].projection_map_used);  // every direction is occupied
+    EXPECT_GT(stats.caustic_photons, 1000u);
+}
+
+TEST(Photons, SpecularMaterialThatGainsEnergyIsRefusedWithItsLine) {
+    JobBuilder b = virtual_light_scene(false);
+    b.scene->materials[2].kd = {0.5, 0.5, 0.5};  // the mirror: mean kd 0.5 + mean ks 0.9 > 1
+    b.scene->materials[2].where = {"scene.lua", 4};
+    b.job.options.caustic_num_photons = 1000;
+    RenderSession session;
+    session.set_job(b.build());
+    session.start();
+    try {
+        session.wait();
+        FAIL() << "expected an error";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("scene.lua:4: gr.material:", 0), 0u) << e.what();
+    }
+}
+
+TEST(Session, OnlyWhatAChangeInvalidatesIsRedone) {
+    JobBuilder b = virtual_light_scene(false);
+    b.job.options.caustic_num_photons = 20'000;
+    RenderJob job = b.build();
+    RenderSession session;
+    auto run = [&](const RenderJob& j) {
+        session.set_job(j);
+        session.start();
+        ASSERT_TRUE(session.wait());
+    };
+    run(job);
+    job.options.caustic_num_neighbours = 20;  // re-gathers, no re-shoot
+    job.options.caustic_max_dist = 0.2;
+    run(job);
+    job.camera.eye = {0.1, 0.5, 0};           // camera: neither BVH nor photons
+    run(job);
+    EXPECT_EQ(session.stage_counters().scene_builds, 1);
+    EXPECT_EQ(session.stage_counters().photon_passes, 1);
+    EXPECT_EQ(session.stage_counters().renders, 3);
+    job.options.caustic_num_photons = 30'000;  // re-shoot, no BVH rebuild
+    run(job);
+    EXPECT_EQ(session.stage_counters().scene_builds, 1);
+    EXPECT_EQ(session.stage_counters().photon_passes, 2);
+}
+
+TEST(Convergence, ErrorFallsAsPhotonsGrow) {
+    JobBuilder reference = virtual_light_scene(true);
+    const RenderJob reference_job = reference.build();
+    const Image truth = caustica::testing::render(reference_job);
+    double previous = 1e9;
+    for (long long photons : {10'000LL, 100'000LL, 1'000'000LL}) {
+        JobBuilder b = virtual_light_scene(false);
+        b.job.options.caustic_num_photons = photons;
+        b.job.options.caustic_num_neighbours = 50;
+        b.job.options.draw_caustics_only = true;
+        const RenderJob job = b.build();
+        const Image image = caustica::testing::render(job);
+        const Camera camera(job.camera, job.width, job.height);
+        double squared = 0.0;
+        int count = 0;
+        for (int y = 0; y < 48; ++y)
+            for (int x = 0; x < 48; ++x) {
+                const Ray ray = camera.generate(x + 0.5f, y + 0.5f);
+                const glm::vec3 p = ray.origin + (2.95f - ray.origin.y) / ray.direction.y * ray.direction;
+                const float r = std::sqrt(p.x * p.x + p.z * p.z);
+                if (r < 0.5f || r > 1.8f) continue;
+                squared += std::pow(image.at(x, y).x - truth.at(x, y).x, 2.0);
+                ++count;
+            }
+        const double rmse = std::sqrt(squared / count);
+        std::printf("convergence: %lld photons, rmse %.5f\n", photons, rmse);
+        EXPECT_LT(rmse, previous * 0.8) << photons;  // 10x photons must cut the error clearly
+        previous = rmse;
+    }
+}
