@@ -6,6 +6,7 @@
 #include "core/render_session.h"
 #include "core/source_location.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -101,6 +102,21 @@ void print_stats(const RenderStats& stats, bool timing, bool statistics) {
         std::fprintf(stderr, "        refracted        %9llu\n", static_cast<unsigned long long>(r.refracted));
         std::fprintf(stderr, "        total            %9llu (%.2f M rays/s)\n",
                      static_cast<unsigned long long>(r.total_rays()), r.total_rays() / seconds * 1e-6);
+        for (std::size_t l = 0; l < stats.caustic_lights.size(); ++l) {
+            const LightCausticStats& c = stats.caustic_lights[l];
+            std::fprintf(stderr,
+                         "  caustic photons, light %zu: %lld directions, %lld traced, %lld stored; projection map "
+                         "%s (occupied %.1f%% of the sphere)\n",
+                         l + 1, c.candidates, c.traced, c.stored, c.projection_map_used ? "used" : "not used",
+                         100.0 * c.occupied_fraction);
+        }
+        if (stats.caustic_photons > 0)
+            std::fprintf(stderr, "  caustic map            %9zu photons, %.1f MiB\n", stats.caustic_photons,
+                         stats.caustic_map_bytes / 1048576.0);
+        if (r.gathers > 0)
+            std::fprintf(stderr, "  radiance estimates     %9llu (%.3f s summed over threads, %.0f%% of render thread time)\n",
+                         static_cast<unsigned long long>(r.gathers), r.gather_seconds,
+                         100.0 * r.gather_seconds / (seconds * std::max(1, stats.threads)));
         for (const StageTime& s : stats.stages)
             std::fprintf(stderr, "  time: %-16s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? " (cached)" : "");
     }

@@ -21,6 +21,7 @@
 #include <pmmintrin.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cstring>
 #include <random>
 
@@ -120,13 +121,17 @@ void RenderSession::prepare_scene() {
     set_stage("building the scene");
     const double t0 = now_seconds();
     FlatScene flat = flatten_scene(*job_.scene, job_.root, job_.options.a4);
-    scene_.reset();
+    {
+        std::lock_guard lock(mutex_);  // pick() may be reading the old scene from another thread
+        scene_.reset();
+    }
     textures_.reset();
     caustics_ = std::make_unique<CausticStage>();  // depends on the geometry
-    scene_ = std::make_unique<RenderScene>(*job_.scene, flat);
+    auto scene = std::make_shared<const RenderScene>(*job_.scene, flat);
     textures_ = std::make_unique<TextureSet>(*job_.scene);
     built_geometry_key_ = geometry_key_;
     std::lock_guard lock(mutex_);
+    scene_ = std::move(scene);
     warnings_ = std::move(flat.warnings);
     ++counters_.scene_builds;
     stats_.stages.push_back({"scene build", now_seconds() - t0, false});
@@ -174,6 +179,14 @@ void RenderSession::start() {
         stats_.rays = {};
     }
     tiles_done_ = 0;
+    // The image and its tiles are (re)made here, on the thread that also fetches tiles.
+    if (image_.width != job_.width || image_.height != job_.height) {
+        image_ = Image(job_.width, job_.height);
+        tiles_ = make_tiles(job_.width, job_.height, tile_size);
+        tile_mutexes_ = std::make_unique<std::mutex[]>(tiles_.size());
+        tile_versions_ = std::make_unique<std::atomic<std::uint64_t>[]>(tiles_.size());
+        for (std::size_t i = 0; i < tiles_.size(); ++i) tile_versions_[i] = 0;
+    }
     start_time_ = now_seconds();
     running_ = true;
     worker_ = std::thread([this] { run(); });
@@ -241,16 +254,17 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     context.aa_threshold = static_cast<float>(options.aa_threshold);
     context.draw_aa = options.draw_aa;
 
-    const std::vector<Tile> tiles = make_tiles(width, height, tile_size);
+    const std::vector<Tile>& tiles = tiles_;
     const bool antialias = !options.disable_aa && options.aa_grid > 1;
     {
         std::lock_guard lock(mutex_);
-        progress_.passes = antialias ? 2 : 1;
+        progress_.passes = (antialias ? 2 : 1) + (progressive_ ? 1 : 0);
         progress_.tiles_total = tiles.size() * progress_.passes;
     }
-    image_ = Image(width, height);
     tbb::enumerable_thread_specific<RayCounters> counters;
 
+    // Each tile is rendered under its lock and then published with a new version, so a viewer
+    // copying tiles (fetch_tiles) never sees one half-written and never waits (it try-locks).
     auto run_pass = [&](const char* name, int pass, auto&& body) {
         set_stage(name);
         {
@@ -263,7 +277,11 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
                               [&](const tbb::blocked_range<std::size_t>& range) {
                                   for (std::size_t i = range.begin(); i != range.end(); ++i) {
                                       if (cancel_requested_.load(std::memory_order_relaxed)) return;
-                                      body(tiles[i], counters.local());
+                                      {
+                                          std::lock_guard tile_lock(tile_mutexes_[i]);
+                                          body(tiles[i], counters.local());
+                                          tile_versions_[i].store(++version_counter_, std::memory_order_release);
+                                      }
                                       tiles_done_.fetch_add(1, std::memory_order_relaxed);
                                   }
                               });
@@ -272,12 +290,18 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         stats_.stages.push_back({name, now_seconds() - t0, false});
     };
 
-    run_pass("first samples", 0, [&](const Tile& tile, RayCounters& c) {
-        render_first_pass_tile(context, tile, image_, c);
-    });
+    int pass = 0;
+    if (progressive_)
+        run_pass("preview", pass++, [&](const Tile& tile, RayCounters& c) {
+            render_coarse_tile(context, tile, preview_block, image_, c);
+        });
+    if (!cancel_requested_)
+        run_pass("first samples", pass++, [&](const Tile& tile, RayCounters& c) {
+            render_first_pass_tile(context, tile, image_, c);
+        });
     if (antialias && !cancel_requested_) {
         first_pass_ = image_;
-        run_pass("anti-aliasing", 1, [&](const Tile& tile, RayCounters& c) {
+        run_pass("anti-aliasing", pass++, [&](const Tile& tile, RayCounters& c) {
             render_antialiasing_tile(context, tile, first_pass_, image_, c);
         });
     }
@@ -293,6 +317,48 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
 }
 
 void RenderSession::cancel() { cancel_requested_ = true; }
+
+bool RenderSession::pick(const Ray& ray, glm::vec3& point) const {
+    std::shared_ptr<const RenderScene> scene;
+    {
+        std::lock_guard lock(mutex_);
+        scene = scene_;
+    }
+    SurfaceHit hit;
+    if (!scene || !scene->intersect(ray, hit)) return false;
+    point = hit.position;
+    return true;
+}
+
+std::vector<LightProjectionMap> RenderSession::projection_maps() const {
+    std::lock_guard lock(mutex_);
+    std::vector<LightProjectionMap> maps;
+    if (!caustics_ || running_) return maps;
+    for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
+        if (!caustics_->projection_maps[l].empty())
+            maps.push_back({caustics_->projection_maps[l], caustics_->light_positions[l], static_cast<int>(l)});
+    return maps;
+}
+
+std::size_t RenderSession::fetch_tiles(Image& out, std::vector<std::uint64_t>& seen) const {
+    if (out.width != image_.width || out.height != image_.height) {
+        out = Image(image_.width, image_.height);
+        seen.assign(tiles_.size(), 0);
+    }
+    seen.resize(tiles_.size(), 0);
+    std::size_t copied = 0;
+    for (std::size_t i = 0; i < tiles_.size(); ++i) {
+        if (tile_versions_[i].load(std::memory_order_acquire) == seen[i]) continue;
+        std::unique_lock lock(tile_mutexes_[i], std::try_to_lock);
+        if (!lock.owns_lock()) continue;  // being rendered: next time
+        const Tile& t = tiles_[i];
+        for (int y = t.y0; y < t.y1; ++y)
+            std::copy(&image_.at(t.x0, y), &image_.at(t.x0, y) + (t.x1 - t.x0), &out.at(t.x0, y));
+        seen[i] = tile_versions_[i].load(std::memory_order_relaxed);
+        ++copied;
+    }
+    return copied;
+}
 
 bool RenderSession::wait() {
     if (worker_.joinable()) worker_.join();

@@ -6,7 +6,10 @@
 
 #include "core/image.h"
 #include "core/render_stats.h"
+#include "core/projection_map.h"
+#include "core/ray.h"
 #include "core/scene_desc.h"
+#include "core/tile_renderer.h"
 
 #include <tbb/task_arena.h>
 
@@ -25,6 +28,13 @@ class RenderScene;
 class TextureSet;
 struct CausticStage;
 
+/// A light's projection map and where the light is, for overlays.
+struct LightProjectionMap {
+    ProjectionMap map;
+    glm::vec3 light_position;
+    int light_index;  ///< position in the job's light list
+};
+
 /// A consistent view of how far the current render is.
 struct SessionProgress {
     std::uint64_t generation = 0;  ///< increments with every start()
@@ -40,6 +50,8 @@ struct SessionProgress {
 
 /// Tile edge length in pixels.
 inline constexpr int tile_size = 16;
+/// Block edge of the coarse preview pass (divides tile_size).
+inline constexpr int preview_block = 4;
 
 class RenderSession {
 public:
@@ -71,6 +83,24 @@ public:
     /// The image; complete once wait() returned true. Tiles may be mid-render while running.
     const Image& image() const { return image_; }
 
+    /// Copies into `out` the tiles published since the versions in `seen` (one per tile, updated),
+    /// resizing `out` when the image size changed. Never waits for a tile being rendered. Call it
+    /// from the thread that calls start(). Returns how many tiles were copied.
+    std::size_t fetch_tiles(Image& out, std::vector<std::uint64_t>& seen) const;
+
+    /// The first surface point along a ray in the last built scene (thread-safe; for picking).
+    bool pick(const Ray& ray, glm::vec3& point) const;
+
+    /// Copies of the projection maps of the last photon pass, with their lights (empty while a
+    /// render runs, or when no map was built).
+    std::vector<LightProjectionMap> projection_maps() const;
+
+    /// Renders a coarse preview pass (one sample per 4 x 4 block) before the full passes.
+    void set_progressive(bool on) { progressive_ = on; }
+
+    /// The tiles of the current image.
+    const std::vector<Tile>& tiles() const { return tiles_; }
+
     /// Statistics of the last completed (or cancelled) render.
     RenderStats stats() const;
 
@@ -97,11 +127,16 @@ private:
     std::uint64_t built_geometry_key_ = 0;
     std::uint64_t caustic_key_ = 0;         // fingerprint of what the photon map depends on, 0 = none
     std::unique_ptr<CausticStage> caustics_;
-    std::unique_ptr<RenderScene> scene_;
+    std::shared_ptr<const RenderScene> scene_;  // replaced under mutex_ (pick reads it)
     std::unique_ptr<TextureSet> textures_;
     std::vector<std::string> warnings_;
 
     Image image_, first_pass_;
+    std::vector<Tile> tiles_;
+    std::unique_ptr<std::mutex[]> tile_mutexes_;
+    std::unique_ptr<std::atomic<std::uint64_t>[]> tile_versions_;
+    std::atomic<std::uint64_t> version_counter_{0};
+    bool progressive_ = false;
     std::thread worker_;
     std::atomic<bool> cancel_requested_{false};
     std::atomic<bool> running_{false};

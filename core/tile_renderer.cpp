@@ -14,6 +14,21 @@ std::vector<Tile> make_tiles(int width, int height, int size) {
     return tiles;
 }
 
+void render_coarse_tile(const TileContext& context, const Tile& tile, int block, Image& out, RayCounters& counters) {
+    for (int y = tile.y0; y < tile.y1; y += block) {
+        for (int x = tile.x0; x < tile.x1; x += block) {
+            const int x1 = std::min(x + block, tile.x1), y1 = std::min(y + block, tile.y1);
+            RandomStream random(context.seed, static_cast<std::uint64_t>(y) * out.width + x, 2);
+            const glm::vec3 c = context.integrator->trace_camera_ray(
+                context.camera->generate(0.5f * static_cast<float>(x + x1), 0.5f * static_cast<float>(y + y1)), random,
+                counters);
+            ++counters.samples;
+            for (int yy = y; yy < y1; ++yy)
+                for (int xx = x; xx < x1; ++xx) out.at(xx, yy) = c;
+        }
+    }
+}
+
 void render_first_pass_tile(const TileContext& context, const Tile& tile, Image& out, RayCounters& counters) {
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; x += 8) {

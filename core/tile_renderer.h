@@ -28,6 +28,9 @@ struct TileContext {
     bool draw_aa = false;
 };
 
+/// One sample per `block` x `block` square (at its centre), filling the whole square: a fast preview.
+void render_coarse_tile(const TileContext& context, const Tile& tile, int block, Image& out, RayCounters& counters);
+
 /// One sample through each pixel centre, 8 pixels per packet.
 void render_first_pass_tile(const TileContext& context, const Tile& tile, Image& out, RayCounters& counters);
 

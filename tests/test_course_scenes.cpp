@@ -80,7 +80,7 @@ INSTANTIATE_TEST_SUITE_P(Cs488, CourseScene,
                          ::testing::Values(CourseCase{"simple.lua", 256, 256, 2, 5},
                                            CourseCase{"nonhier.lua", 256, 256, 2, 7},
                                            CourseCase{"hier.lua", 256, 256, 2, 5},
-                                           CourseCase{"simple-cows.lua", 256, 256, 1, 0},
+                                           CourseCase{"simple-cows.lua", 256, 256, 1, 41},
                                            CourseCase{"macho-cows.lua", 256, 256, 1, 23}),
                          [](const ::testing::TestParamInfo<CourseCase>& info) {
                              std::string name = info.param.file;

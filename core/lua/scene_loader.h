@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstddef>
+#include <stdexcept>
 #include <string>
 
 namespace caustica {
@@ -15,6 +16,12 @@ struct LoadSettings {
     double timeout_seconds = 60.0;             ///< wall-clock limit of script evaluation, 0 = none
     std::size_t memory_limit_bytes = std::size_t(2) << 30;  ///< Lua heap cap
     const std::atomic<bool>* cancel = nullptr; ///< set by Ctrl-C: stops the script promptly
+};
+
+/// Thrown by load_scene_script when LoadSettings::cancel is set while the script runs.
+class ScriptCancelled : public std::runtime_error {
+public:
+    ScriptCancelled() : std::runtime_error("interrupted") {}
 };
 
 /// Runs the script at `path` and returns every gr.render it made, in order.

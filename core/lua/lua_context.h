@@ -1,0 +1,161 @@
+// Internal to the Lua scene loader: the state a running script builds, the handles Lua holds,
+// and the guard that keeps C++ exceptions from crossing Lua frames.
+//
+// Lua is compiled as C here, so lua_error unwinds with longjmp. The rule every C function follows:
+// C++ work (which may throw) runs inside `call_guarded`, reads its arguments only through the
+// non-raising readers below, and hands back a `CallResult`; anything that can raise a Lua error
+// (pushing results, lua_error) happens after every C++ object of the call is gone.
+#pragma once
+
+#include "core/lua/scene_loader.h"
+
+#include <lua.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace caustica::scene_lua {
+
+/// What a Lua handle refers to; the index is into the matching SceneDesc vector.
+enum class HandleKind : std::uint32_t { node, material, light, texture };
+
+/// The payload of every userdata the gr API gives to Lua.
+struct Handle {
+    std::uint32_t magic = 0;  ///< handle_magic for ours (a script cannot forge userdata bytes)
+    HandleKind kind = HandleKind::node;
+    int index = -1;
+};
+
+/// Marks a userdata as a caustica handle.
+inline constexpr std::uint32_t handle_magic = 0xCA05771Cu;
+
+/// Everything a running script builds and the limits it runs under; lives as long as the lua_State.
+struct LoaderContext {
+    // inputs
+    std::string script_path;                ///< as passed to load_scene_script
+    std::filesystem::path script_dir_as_given;  ///< parent of script_path as written ("" for the cwd)
+    std::filesystem::path scene_dir;        ///< absolute, canonical folder of the main script
+    lua_State* L = nullptr;
+
+    // the scene so far
+    SceneDesc scene;
+    std::vector<bool> texture_is_bumpmap;   ///< parallel to scene.textures
+    std::map<std::string, int> mesh_cache;  ///< absolute OBJ path -> index into scene.meshes
+    Options options;                        ///< base options + every gr.option so far
+    glm::dvec3 miss_colour{0.0};
+    std::vector<RenderJob> renders;
+    std::vector<std::string> warnings;
+    std::string warning_in_progress;        ///< pieces of a multi-part warn() message
+
+    // limits
+    std::size_t memory_used = 0;
+    std::size_t memory_limit = 0;           ///< 0 = no limit
+    bool memory_exceeded = false;           ///< an allocation was refused for the limit
+    double timeout_seconds = 0.0;
+    std::chrono::steady_clock::time_point deadline;
+    const std::atomic<bool>* cancel = nullptr;
+    bool timed_out = false;
+    bool cancelled = false;
+    bool finished = false;                  ///< the state is closing: warnings are no longer collected
+    SourceLocation last_hook_location;      ///< refreshed by the instruction-count hook (memory errors use it)
+
+    // messages handed from C++ to Lua
+    std::string pending_error;              ///< raised by the guard after the C++ frames are gone
+    std::string stop_message;               ///< timeout/cancel message, raised again on every later hook
+    std::string result_text;                ///< CallResult::Kind::text payload
+    std::string resolved_path;              ///< output of resolve_* helpers for the sandbox functions
+};
+
+/// The loader context stored in the state's extra space.
+LoaderContext& context(lua_State* L);
+
+/// What a guarded body gives back to Lua.
+struct CallResult {
+    enum class Kind { none, handle, text } kind = Kind::none;
+    Handle handle;
+
+    static CallResult nothing() { return {}; }
+    static CallResult of(HandleKind kind, int index) { return {Kind::handle, Handle{handle_magic, kind, index}}; }
+    /// A string result; the text is in LoaderContext::result_text.
+    static CallResult text() { return {Kind::text, {}}; }
+};
+
+/// The C++ body of a gr function: reads its arguments, changes the context, throws on bad input.
+using GuardedBody = CallResult (*)(lua_State* L, LoaderContext& ctx);
+
+/// Runs `body` and pushes its result; a C++ exception becomes a Lua error "file:line: name: what",
+/// where name is the closure's first upvalue (e.g. "gr.material").
+int call_guarded(lua_State* L, GuardedBody body);
+
+/// The lua_CFunction for a body (register it with its name as upvalue 1).
+template <GuardedBody Body>
+int guarded(lua_State* L) {
+    return call_guarded(L, Body);
+}
+
+/// One gr function or method: its name as shown in errors and its entry point.
+struct GrFunction {
+    const char* name;  ///< e.g. "material" (registered as gr.material) or "translate" (node:translate)
+    lua_CFunction function;
+};
+
+// ---- argument readers: they never raise Lua errors; they throw InputError without location ----
+
+/// The first Lua function on the stack from `level` up: the line a gr call was written on.
+SourceLocation caller_location(lua_State* L, int level = 1);
+/// The location of an activation record filled by lua_getstack/lua_getinfo("Sl").
+SourceLocation location_of(const lua_Debug& ar);
+/// Checks the number of arguments from stack index `first` (2 for methods: self is 1).
+void expect_arguments(lua_State* L, int first, int min, int max, const char* signature);
+/// A string argument ("name must be a string, got a number").
+std::string string_arg(lua_State* L, int index, const char* what);
+/// A finite number argument.
+double number_arg(lua_State* L, int index, const char* what);
+/// A table of exactly 3 finite numbers ("kd must be 3 numbers, ...").
+glm::dvec3 vec3_arg(lua_State* L, int index, const char* what);
+/// Our handle at `index`, or nullptr when the value is anything else.
+const Handle* to_handle(lua_State* L, int index);
+/// The index of a handle of `kind` at `index`; `what` names the argument in the error.
+int handle_arg(lua_State* L, int index, HandleKind kind, const char* what);
+/// The receiver of a method (stack index 1) as a handle of `kind`.
+int self_arg(lua_State* L, HandleKind kind);
+/// "nil", "a number", "a node", "a bump map", ... for error messages.
+std::string describe_value(lua_State* L, int index);
+/// Short text for a number in messages ("nan", "-inf", "0.5").
+std::string format_number(double value);
+/// A file named by the script (mesh, image), relative to the main script's folder: absolute and
+/// normalised. Throws "cannot open 'name' (/abs/path): reason" when it cannot be read.
+std::filesystem::path resolve_scene_file(const LoaderContext& ctx, const std::string& as_written);
+
+// ---- registration ----
+
+/// gr.node, gr.sphere, ..., gr.union and friends.
+std::span<const GrFunction> gr_node_functions();
+/// node:add_child, node:translate, ... (without node:render).
+std::span<const GrFunction> node_methods();
+/// gr.material, gr.air, gr.texture, gr.bumpmap, gr.light.
+std::span<const GrFunction> gr_shading_functions();
+/// m:set_reflective, m:set_ri, m:set_texture, m:set_bumpmap.
+std::span<const GrFunction> material_methods();
+/// tex:remapt and bump:remap (one handle type for both).
+std::span<const GrFunction> texture_methods();
+/// light:set_radius.
+std::span<const GrFunction> light_methods();
+/// gr.render, gr.set_miss_colour, gr.option.
+std::span<const GrFunction> gr_render_functions();
+
+/// Creates the gr table (global and package.loaded.gr) and the handle metatables.
+void register_gr_api(lua_State* L);
+/// Pushes a new userdata for `handle` with the metatable of its kind.
+void push_handle(lua_State* L, const Handle& handle);
+
+/// Opens base, table, string, math, utf8 and the restricted io, os, debug, package, require,
+/// module and load (lua_CFunction run under lua_pcall while the state is set up).
+int open_sandboxed_libraries(lua_State* L);
+
+}  // namespace caustica::scene_lua

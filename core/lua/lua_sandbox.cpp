@@ -1,0 +1,417 @@
+// The sandboxed Lua environment a scene script runs in (SCENE_API.md, "Scripts run sandboxed"):
+// base (without dofile, loadfile, and __gc in setmetatable), table, string, math and utf8; io restricted to reading files under the scene's folder;
+// os.clock/time/date/getenv; debug.getinfo/traceback; text-only load; and the Lua 5.1 module
+// system the seed's scenes use (module, package.seeall, require of sibling and include/ files).
+//
+// The C functions here are written in C style (no C++ object alive across a Lua call that may
+// raise); the little C++ they need runs in noexcept helpers that leave their answer in the context.
+#include "core/lua/lua_context.h"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <initializer_list>
+
+namespace caustica::scene_lua {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Value stored in package.loaded while a module is running (detects require loops).
+char loading_sentinel;
+
+bool is_within(const fs::path& root, const fs::path& path) {
+    auto r = root.begin();
+    auto p = path.begin();
+    for (; r != root.end(); ++r, ++p) {
+        if (r->empty()) continue;  // trailing separator
+        if (p == path.end() || *r != *p) return false;
+    }
+    return true;
+}
+
+/// Resolves a path the script wants to read: relative to the scene folder, symlinks followed, and
+/// refused when it leads outside. Leaves the absolute path in ctx.resolved_path or the reason in
+/// ctx.pending_error.
+bool resolve_for_reading(LoaderContext& ctx, const char* path) noexcept {
+    try {
+        if (!*path) {
+            ctx.pending_error = "the file name is empty";
+            return false;
+        }
+        fs::path wanted(path);
+        if (wanted.is_relative()) wanted = ctx.scene_dir / wanted;
+        std::error_code error;
+        fs::path resolved = fs::weakly_canonical(wanted, error);
+        if (error) resolved = wanted.lexically_normal();
+        if (!is_within(ctx.scene_dir, resolved)) {
+            std::string message(1, '\'');
+            message.append(path).append("' is outside the scene folder (scripts may read only files under ");
+            message.append(ctx.scene_dir.string()).append(")");
+            ctx.pending_error = std::move(message);
+            return false;
+        }
+        ctx.resolved_path = resolved.string();
+        return true;
+    } catch (...) {
+        ctx.pending_error = "out of memory";
+        return false;
+    }
+}
+
+/// Finds `name`.lua beside the main script or in include/ beside it (dots become folders).
+bool find_module_file(LoaderContext& ctx, const char* name) noexcept {
+    try {
+        std::string relative;
+        bool valid = *name && *name != '.';
+        char previous = 0;
+        for (const char* c = name; *c && valid; previous = *c++) {
+            if (*c == '.') {
+                valid = previous != '.';
+                relative += '/';
+            } else {
+                valid = std::isalnum(static_cast<unsigned char>(*c)) || *c == '_' || *c == '-';
+                relative += *c;
+            }
+        }
+        if (!valid || previous == '.') {
+            ctx.pending_error = "invalid module name '" + std::string(name) + "' (letters, digits, '_', '-' and '.')";
+            return false;
+        }
+        relative += ".lua";
+        const fs::path candidates[] = {ctx.script_dir_as_given / relative,
+                                       ctx.script_dir_as_given / "include" / relative};
+        for (const fs::path& candidate : candidates) {
+            std::error_code error;
+            if (fs::is_regular_file(candidate, error)) {
+                ctx.resolved_path = candidate.string();
+                return true;
+            }
+        }
+        ctx.pending_error = "module '" + std::string(name) + "' not found (looked for " + candidates[0].string() +
+                            " and " + candidates[1].string() + ")";
+    } catch (...) {
+        ctx.pending_error = "out of memory";
+    }
+    return false;
+}
+
+/// The stem of the file the calling chunk came from ("scene" for "@dir/scene.lua").
+bool caller_stem(lua_State* L, LoaderContext& ctx) noexcept {
+    try {
+        SourceLocation where = caller_location(L);
+        if (where.file.empty()) return false;
+        ctx.result_text = fs::path(where.file).stem().string();
+        return !ctx.result_text.empty();
+    } catch (...) {
+        return false;
+    }
+}
+
+// ---- io ----
+
+int sandbox_io_open(lua_State* L) {
+    const char* path = luaL_checkstring(L, 1);
+    const char* mode = luaL_optstring(L, 2, "r");
+    if (std::strpbrk(mode, "wa+")) return luaL_error(L, "io.open: scripts cannot write files (mode '%s')", mode);
+    LoaderContext& ctx = context(L);
+    if (!resolve_for_reading(ctx, path)) {
+        luaL_pushfail(L);
+        lua_pushstring(L, ctx.pending_error.c_str());
+        lua_pushinteger(L, EACCES);
+        return 3;
+    }
+    lua_settop(L, 2);
+    lua_pushvalue(L, lua_upvalueindex(1));  // the real io.open
+    lua_pushstring(L, ctx.resolved_path.c_str());
+    lua_pushstring(L, mode);
+    lua_call(L, 2, LUA_MULTRET);
+    return lua_gettop(L) - 2;
+}
+
+int sandbox_io_lines(lua_State* L) {
+    if (lua_isnoneornil(L, 1))
+        return luaL_error(L, "io.lines: a file name is required (scripts cannot read standard input)");
+    const char* path = luaL_checkstring(L, 1);
+    LoaderContext& ctx = context(L);
+    if (!resolve_for_reading(ctx, path)) return luaL_error(L, "io.lines: %s", ctx.pending_error.c_str());
+    if (std::FILE* file = std::fopen(ctx.resolved_path.c_str(), "r")) {
+        std::fclose(file);
+    } else {
+        return luaL_error(L, "io.lines: cannot open '%s': %s", path, std::strerror(errno));
+    }
+    lua_pushstring(L, ctx.resolved_path.c_str());
+    lua_replace(L, 1);
+    lua_pushvalue(L, lua_upvalueindex(1));  // the real io.lines
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+    return lua_gettop(L);
+}
+
+/// io keeps open/lines (wrapped), close, type, write (to standard output), stdout and stderr.
+void restrict_io(lua_State* L) {
+    luaL_requiref(L, LUA_IOLIBNAME, luaopen_io, 1);
+    lua_getfield(L, -1, "open");
+    lua_pushcclosure(L, sandbox_io_open, 1);
+    lua_setfield(L, -2, "open");
+    lua_getfield(L, -1, "lines");
+    lua_pushcclosure(L, sandbox_io_lines, 1);
+    lua_setfield(L, -2, "lines");
+    for (const char* removed : {"popen", "input", "output", "read", "tmpfile", "stdin"}) {
+        lua_pushnil(L);
+        lua_setfield(L, -2, removed);
+    }
+    lua_pop(L, 1);
+}
+
+/// Replaces a library by a table holding only the listed functions of the full one.
+void keep_only(lua_State* L, const char* name, lua_CFunction open, std::initializer_list<const char*> kept) {
+    luaL_requiref(L, name, open, 0);
+    lua_createtable(L, 0, static_cast<int>(kept.size()));
+    for (const char* field : kept) {
+        lua_getfield(L, -2, field);
+        lua_setfield(L, -2, field);
+    }
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    lua_pushvalue(L, -2);
+    lua_setfield(L, -2, name);
+    lua_pop(L, 1);
+    lua_setglobal(L, name);
+    lua_pop(L, 1);
+}
+
+// ---- load ----
+
+/// load(chunk [, name [, mode [, env]]]) with the mode forced to text: binary chunks are refused.
+int load_text_only(lua_State* L) {
+    if (lua_gettop(L) < 3) lua_settop(L, 3);
+    lua_pushliteral(L, "t");
+    lua_replace(L, 3);
+    lua_pushvalue(L, lua_upvalueindex(1));  // the real load
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+    return lua_gettop(L);
+}
+
+/// setmetatable without finalizers: Lua runs __gc with hooks off, where the time limit and the
+/// cancel flag could not stop it, so a metatable with __gc is refused.
+int setmetatable_without_gc(lua_State* L) {
+    if (lua_type(L, 2) == LUA_TTABLE) {
+        lua_pushliteral(L, "__gc");
+        if (lua_rawget(L, 2) != LUA_TNIL)
+            return luaL_error(L, "setmetatable: __gc finalizers are not allowed in scene scripts");
+        lua_pop(L, 1);
+    }
+    lua_pushvalue(L, lua_upvalueindex(1));  // the real setmetatable
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+    return lua_gettop(L);
+}
+
+int math_pow(lua_State* L) {
+    lua_pushnumber(L, std::pow(luaL_checknumber(L, 1), luaL_checknumber(L, 2)));
+    return 1;
+}
+
+int table_getn(lua_State* L) {
+    lua_pushinteger(L, luaL_len(L, 1));
+    return 1;
+}
+
+// ---- the Lua 5.1 module system ----
+
+/// package.seeall(module): globals stay visible inside the module.
+int package_seeall(lua_State* L) {
+    luaL_checktype(L, 1, LUA_TTABLE);
+    if (!lua_getmetatable(L, 1)) {
+        lua_createtable(L, 0, 1);
+        lua_pushvalue(L, -1);
+        lua_setmetatable(L, 1);
+    }
+    lua_pushglobaltable(L);
+    lua_setfield(L, -2, "__index");
+    return 0;
+}
+
+/// Pushes the global table at dotted `name` ("a.b" is _G.a.b), creating missing levels.
+void push_global_path(lua_State* L, const char* name) {
+    lua_pushglobaltable(L);
+    const char* end = nullptr;
+    for (const char* part = name;; part = end + 1) {
+        end = std::strchr(part, '.');
+        if (!end) end = part + std::strlen(part);
+        lua_pushlstring(L, part, end - part);
+        if (lua_rawget(L, -2) == LUA_TNIL) {
+            lua_pop(L, 1);
+            lua_newtable(L);
+            lua_pushlstring(L, part, end - part);
+            lua_pushvalue(L, -2);
+            lua_rawset(L, -4);
+        } else if (!lua_istable(L, -1)) {
+            luaL_error(L, "module: name conflict for module '%s'", name);
+        }
+        lua_remove(L, -2);
+        if (*end != '.') break;
+    }
+}
+
+/// module(name [, option...]): the Lua 5.1 function. Makes (or reuses) the module table, records
+/// it in package.loaded, applies the options (package.seeall) and makes it the environment of the
+/// calling chunk by setting the chunk's _ENV upvalue. A nil name (the main script's
+/// `module(..., package.seeall)`) names the module after the calling file.
+int module_function(lua_State* L) {
+    if (lua_gettop(L) == 0) lua_settop(L, 1);
+    if (lua_isnil(L, 1)) {
+        if (!caller_stem(L, context(L))) return luaL_error(L, "module: a module name is required");
+        lua_pushstring(L, context(L).result_text.c_str());
+        lua_replace(L, 1);
+    }
+    const char* name = luaL_checkstring(L, 1);
+    const int last_option = lua_gettop(L);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    const int loaded = lua_gettop(L);
+    if (lua_getfield(L, loaded, name) != LUA_TTABLE) {
+        lua_pop(L, 1);
+        push_global_path(L, name);
+        lua_pushvalue(L, -1);
+        lua_setfield(L, loaded, name);
+    }
+    const int module = lua_gettop(L);
+    lua_pushliteral(L, "_NAME");
+    if (lua_rawget(L, module) == LUA_TNIL) {
+        lua_pushvalue(L, module);
+        lua_setfield(L, module, "_M");
+        lua_pushvalue(L, 1);
+        lua_setfield(L, module, "_NAME");
+        const char* dot = std::strrchr(name, '.');
+        lua_pushlstring(L, name, dot ? dot - name + 1 : 0);
+        lua_setfield(L, module, "_PACKAGE");
+    }
+    lua_pop(L, 1);
+    lua_Debug ar;
+    if (!lua_getstack(L, 1, &ar) || !lua_getinfo(L, "f", &ar) || lua_iscfunction(L, -1))
+        return luaL_error(L, "module: must be called from a Lua chunk");
+    const int caller = lua_gettop(L);
+    for (int i = 1;; ++i) {
+        const char* upvalue = lua_getupvalue(L, caller, i);
+        if (!upvalue) break;
+        lua_pop(L, 1);
+        if (std::strcmp(upvalue, "_ENV") == 0) {
+            lua_pushvalue(L, module);
+            lua_setupvalue(L, caller, i);
+            break;
+        }
+    }
+    lua_pop(L, 1);
+    for (int option = 2; option <= last_option; ++option) {
+        lua_pushvalue(L, option);
+        lua_pushvalue(L, module);
+        lua_call(L, 1, 0);
+    }
+    return 0;
+}
+
+/// require(name): package.loaded[name], else name.lua beside the main script or in include/,
+/// run with (name, path) as its arguments. No C modules, no search paths from the environment.
+int require_function(lua_State* L) {
+    const char* name = luaL_checkstring(L, 1);
+    lua_settop(L, 1);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);  // 2
+    lua_getfield(L, 2, name);                                  // 3
+    if (lua_touserdata(L, 3) == &loading_sentinel)
+        return luaL_error(L, "require: loop or previous error loading module '%s'", name);
+    if (lua_toboolean(L, 3)) return 1;
+    lua_pop(L, 1);
+    LoaderContext& ctx = context(L);
+    if (!find_module_file(ctx, name)) return luaL_error(L, "require: %s", ctx.pending_error.c_str());
+    lua_pushstring(L, ctx.resolved_path.c_str());  // 3
+    if (luaL_loadfilex(L, lua_tostring(L, 3), "t") != LUA_OK) return lua_error(L);  // 4
+    lua_pushlightuserdata(L, &loading_sentinel);
+    lua_setfield(L, 2, name);
+    lua_pushvalue(L, 1);
+    lua_pushvalue(L, 3);
+    lua_call(L, 2, 1);
+    if (!lua_isnil(L, -1)) lua_setfield(L, 2, name);
+    lua_settop(L, 3);
+    lua_getfield(L, 2, name);
+    if (lua_touserdata(L, -1) == &loading_sentinel) {
+        lua_pop(L, 1);
+        lua_pushboolean(L, 1);
+        lua_pushvalue(L, -1);
+        lua_setfield(L, 2, name);
+    }
+    return 1;
+}
+
+void open_package(lua_State* L) {
+    lua_createtable(L, 0, 6);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    lua_pushvalue(L, -2);
+    lua_setfield(L, -2, "package");
+    lua_setfield(L, -2, "loaded");
+    lua_pushcfunction(L, package_seeall);
+    lua_setfield(L, -2, "seeall");
+    lua_pushliteral(L, "");
+    lua_setfield(L, -2, "path");
+    lua_pushliteral(L, "");
+    lua_setfield(L, -2, "cpath");
+    lua_setglobal(L, "package");
+    lua_register(L, "require", require_function);
+    lua_register(L, "module", module_function);
+}
+
+void open_global(lua_State* L, const char* name, lua_CFunction open) {
+    luaL_requiref(L, name, open, 1);
+    lua_pop(L, 1);
+}
+
+void set_field(lua_State* L, const char* table, const char* field, lua_CFunction function) {
+    lua_getglobal(L, table);
+    if (function) lua_pushcfunction(L, function);
+    else lua_pushnil(L);
+    lua_setfield(L, -2, field);
+    lua_pop(L, 1);
+}
+
+}  // namespace
+
+int open_sandboxed_libraries(lua_State* L) {
+    open_global(L, LUA_GNAME, luaopen_base);
+    open_global(L, LUA_TABLIBNAME, luaopen_table);
+    open_global(L, LUA_STRLIBNAME, luaopen_string);
+    open_global(L, LUA_MATHLIBNAME, luaopen_math);
+    open_global(L, LUA_UTF8LIBNAME, luaopen_utf8);
+
+    lua_pushnil(L);
+    lua_setglobal(L, "dofile");
+    lua_pushnil(L);
+    lua_setglobal(L, "loadfile");
+    lua_getglobal(L, "load");
+    lua_pushcclosure(L, load_text_only, 1);
+    lua_pushvalue(L, -1);
+    lua_setglobal(L, "load");
+    lua_setglobal(L, "loadstring");  // Lua 5.1 name, same text-only loader
+    lua_getglobal(L, "setmetatable");
+    lua_pushcclosure(L, setmetatable_without_gc, 1);
+    lua_setglobal(L, "setmetatable");
+    set_field(L, LUA_STRLIBNAME, "dump", nullptr);
+
+    // Lua 5.1 names the seed's scripts may use.
+    lua_getglobal(L, LUA_TABLIBNAME);
+    lua_getfield(L, -1, "unpack");
+    lua_setglobal(L, "unpack");
+    lua_pop(L, 1);
+    set_field(L, LUA_TABLIBNAME, "getn", table_getn);
+    set_field(L, LUA_MATHLIBNAME, "pow", math_pow);
+
+    restrict_io(L);
+    keep_only(L, LUA_OSLIBNAME, luaopen_os, {"clock", "time", "date", "getenv"});
+    keep_only(L, LUA_DBLIBNAME, luaopen_debug, {"getinfo", "traceback"});
+    open_package(L);
+    register_gr_api(L);
+    return 0;
+}
+
+}  // namespace caustica::scene_lua

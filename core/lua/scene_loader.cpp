@@ -1,0 +1,242 @@
+// load_scene_script: runs a scene script in a fresh, sandboxed Lua 5.4 state under a wall-clock
+// limit, a heap limit and a cancel flag, and returns the renders it asked for.
+#include "core/lua/scene_loader.h"
+
+#include "core/lua/lua_context.h"
+
+#include <cctype>
+#include <cstdlib>
+
+namespace caustica {
+namespace {
+
+using namespace scene_lua;
+
+/// Instructions between two runs of the limit-checking hook.
+constexpr int hook_interval = 1000;
+
+/// lua_Alloc that counts the heap and refuses to grow it past the limit (Lua raises LUA_ERRMEM).
+void* counting_alloc(void* ud, void* block, size_t old_size, size_t new_size) noexcept {
+    auto& ctx = *static_cast<LoaderContext*>(ud);
+    const size_t old_bytes = block ? old_size : 0;  // without a block, old_size is a type tag
+    if (new_size == 0) {
+        std::free(block);
+        ctx.memory_used -= old_bytes;
+        return nullptr;
+    }
+    if (new_size > old_bytes && ctx.memory_limit != 0 &&
+        ctx.memory_used - old_bytes + new_size > ctx.memory_limit) {
+        ctx.memory_exceeded = true;
+        return nullptr;
+    }
+    void* resized = std::realloc(block, new_size);
+    if (!resized) return new_size <= old_bytes ? block : nullptr;  // Lua assumes shrinking never fails
+    ctx.memory_used = ctx.memory_used - old_bytes + new_size;
+    return resized;
+}
+
+/// Records where the script is and decides whether it must stop; the message goes to
+/// ctx.stop_message. Never throws.
+bool may_continue(lua_State* L, lua_Debug* ar, LoaderContext& ctx) noexcept {
+    try {
+        if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0) {
+            SourceLocation& last = ctx.last_hook_location;
+            last.line = ar->currentline;
+            if (const char* source = ar->source; source && (*source == '@' || *source == '=')) {
+                if (last.file.compare(source + 1) != 0) last.file.assign(source + 1);
+            } else {
+                last.file = ar->short_src;
+            }
+        }
+        if (!ctx.stop_message.empty()) return false;  // once stopped, a pcall cannot resume the script
+        auto where = [&] {
+            return ctx.last_hook_location.file.empty() ? ctx.script_path : ctx.last_hook_location.str();
+        };
+        if (ctx.cancel && ctx.cancel->load(std::memory_order_relaxed)) {
+            ctx.cancelled = true;
+            ctx.stop_message = where() + ": interrupted";
+        } else if (ctx.timeout_seconds > 0.0 && std::chrono::steady_clock::now() >= ctx.deadline) {
+            ctx.timed_out = true;
+            ctx.stop_message =
+                where() + ": script stopped after " + format_number(ctx.timeout_seconds) + " s (--script-timeout)";
+        } else {
+            return true;
+        }
+    } catch (...) {
+        ctx.stop_message = "out of memory";
+    }
+    lua_sethook(L, lua_gethook(L), LUA_MASKCOUNT, 1);  // raise again at every instruction
+    return false;
+}
+
+void count_hook(lua_State* L, lua_Debug* ar) {
+    LoaderContext& ctx = context(L);
+    if (may_continue(L, ar, ctx)) return;
+    lua_pushlstring(L, ctx.stop_message.data(), ctx.stop_message.size());
+    lua_error(L);
+}
+
+/// warn(...) from the script, and Lua's own warnings, become SceneScript::warnings.
+void collect_warning(void* ud, const char* message, int to_continue) noexcept {
+    auto& ctx = *static_cast<LoaderContext*>(ud);
+    try {
+        if (ctx.finished) return;
+        if (ctx.warning_in_progress.empty() && !to_continue && message[0] == '@') return;  // "@on", "@off"
+        ctx.warning_in_progress += message;
+        if (to_continue) return;
+        const SourceLocation where = caller_location(ctx.L, 1);
+        ctx.warnings.push_back((where.file.empty() ? std::string() : where.str() + ": ") + ctx.warning_in_progress);
+        ctx.warning_in_progress.clear();
+    } catch (...) {
+    }
+}
+
+/// True when `text` starts like "file:12: " (no colon or newline in the file part).
+bool starts_with_location(const std::string& text) {
+    const size_t colon = text.find(':');
+    if (colon == 0 || colon == std::string::npos || text.find('\n') < colon) return false;
+    size_t end = colon + 1;
+    while (end < text.size() && std::isdigit(static_cast<unsigned char>(text[end]))) ++end;
+    return end > colon + 1 && end < text.size() && text[end] == ':';
+}
+
+/// Gives an error value without a location ("error('x', 0)", "error({})") the line that raised it;
+/// the answer goes to ctx.result_text. Never throws.
+bool locate_error(lua_State* L, LoaderContext& ctx) noexcept {
+    try {
+        const SourceLocation where = caller_location(L, 1);
+        if (where.file.empty()) return false;
+        std::string text;
+        if (lua_type(L, 1) == LUA_TSTRING) {
+            text = lua_tostring(L, 1);
+            if (starts_with_location(text) || text.rfind(ctx.script_path + ":", 0) == 0) return false;
+        } else {
+            text = "error object is " + describe_value(L, 1);
+        }
+        ctx.result_text = where.str() + ": " + text;
+        return true;
+    } catch (...) {
+        return false;
+    }
+}
+
+/// The message handler of the main chunk's lua_pcall.
+int message_handler(lua_State* L) {
+    if (locate_error(L, context(L))) lua_pushstring(L, context(L).result_text.c_str());
+    else lua_settop(L, 1);
+    return 1;
+}
+
+/// Compiles the main chunk (text only) from the path passed as a light userdata.
+int load_main_chunk(lua_State* L) {
+    const char* path = static_cast<const char*>(lua_touserdata(L, 1));
+    if (luaL_loadfilex(L, path, "t") != LUA_OK) return lua_error(L);
+    return 1;
+}
+
+int set_up_state(lua_State* L) {
+    open_sandboxed_libraries(L);
+    return 0;
+}
+
+/// The error value on top of the stack as text, without calling anything that may raise.
+std::string error_text(lua_State* L) {
+    switch (lua_type(L, -1)) {
+    case LUA_TSTRING: return lua_tostring(L, -1);
+    case LUA_TNUMBER: return "error " + format_number(lua_tonumber(L, -1));
+    default: return "error object is " + describe_value(L, -1);
+    }
+}
+
+std::string failure_message(lua_State* L, const LoaderContext& ctx, int status) {
+    if (!ctx.stop_message.empty()) return ctx.stop_message;
+    if (status == LUA_ERRMEM) {
+        const std::string where =
+            ctx.last_hook_location.file.empty() ? ctx.script_path : ctx.last_hook_location.str();
+        if (!ctx.memory_exceeded) return where + ": out of memory";
+        return where + ": script exceeded the memory limit of " +
+               format_number(static_cast<double>(ctx.memory_limit) / (1024.0 * 1024.0)) + " MiB";
+    }
+    return error_text(L);
+}
+
+/// Owns the lua_State and closes it once (scripts cannot leave finalizers: see setmetatable).
+class StateOwner {
+public:
+    StateOwner(lua_State* L, LoaderContext& ctx) : L_(L), ctx_(ctx) {}
+    StateOwner(const StateOwner&) = delete;
+    StateOwner& operator=(const StateOwner&) = delete;
+    ~StateOwner() { close(); }
+
+    void close() {
+        if (!L_) return;
+        ctx_.finished = true;
+        lua_close(L_);
+        L_ = nullptr;
+        ctx_.L = nullptr;
+    }
+
+private:
+    lua_State* L_;
+    LoaderContext& ctx_;
+};
+
+}  // namespace
+
+SceneScript load_scene_script(const std::string& path, const LoadSettings& settings) {
+    namespace fs = std::filesystem;
+    LoaderContext ctx;
+    ctx.script_path = path;
+    ctx.script_dir_as_given = fs::path(path).parent_path();
+    std::error_code error;
+    const fs::path folder = fs::absolute(path, error).parent_path();
+    ctx.scene_dir = fs::weakly_canonical(folder, error);
+    if (error) ctx.scene_dir = folder.lexically_normal();
+    ctx.options = settings.base_options;
+    ctx.memory_limit = settings.memory_limit_bytes;
+    ctx.timeout_seconds = settings.timeout_seconds;
+    ctx.cancel = settings.cancel;
+    if (ctx.cancel && ctx.cancel->load()) throw ScriptCancelled();
+
+    lua_State* L = lua_newstate(counting_alloc, &ctx);
+    if (!L) throw InputError(path + ": cannot start the Lua interpreter (out of memory)");
+    StateOwner owner(L, ctx);
+    ctx.L = L;
+    *static_cast<LoaderContext**>(lua_getextraspace(L)) = &ctx;
+    lua_setwarnf(L, collect_warning, &ctx);
+
+    lua_pushcfunction(L, set_up_state);
+    if (lua_pcall(L, 0, 0, 0) != LUA_OK) {
+        const std::string message = failure_message(L, ctx, LUA_ERRRUN);
+        throw InputError(path + ": cannot set up the scene interpreter: " + message);
+    }
+
+    ctx.deadline = std::chrono::steady_clock::now() +
+                   std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                       std::chrono::duration<double>(std::min(settings.timeout_seconds, 1e9)));
+    lua_sethook(L, count_hook, LUA_MASKCOUNT, hook_interval);
+
+    // Compiled under protection, then called straight from C so that at the chunk's top level
+    // debug.getinfo(2) is nil ("run as main").
+    lua_pushcfunction(L, message_handler);
+    lua_pushcfunction(L, load_main_chunk);
+    lua_pushlightuserdata(L, const_cast<char*>(path.c_str()));
+    int status = lua_pcall(L, 1, 1, 0);
+    if (status == LUA_OK) status = lua_pcall(L, 0, 0, 1);
+    if (status != LUA_OK) {
+        const std::string message = failure_message(L, ctx, status);
+        const bool cancelled = ctx.cancelled;
+        owner.close();
+        if (cancelled) throw ScriptCancelled();
+        throw InputError(message);
+    }
+    owner.close();
+
+    SceneScript script;
+    script.path = path;
+    script.renders = std::move(ctx.renders);
+    script.warnings = std::move(ctx.warnings);
+    return script;
+}
+
+}  // namespace caustica
