@@ -48,7 +48,9 @@ ring:scale(0.55, 0.15, 0.55)
 ring:set_material(gold)
 scene:add_child(ring)
 
-light = gr.light({0.0, 1.8, 0.5}, {0.9, 0.9, 0.85}, {1, 0, 0})
+-- Caustics need a light with quadratic falloff (c2 > 0): photon energies follow it.
+light = gr.light({0.0, 1.8, 0.5}, {1.9, 1.9, 1.75}, {0.2, 0, 0.15})
+gr.option('--caustic-num-photons 3000000 --caustic-num-neighbours 100')
 
 gr.render(scene, 'default.png', 512, 512,
           {0, 0, 7.5}, {0, 0, -1}, {0, 1, 0}, 40,

@@ -21,6 +21,8 @@ struct CourseCase {
     std::size_t primitives;  // after instancing
 };
 
+void PrintTo(const CourseCase& c, std::ostream* os) { *os << c.file; }
+
 class CourseScene : public ::testing::TestWithParam<CourseCase> {};
 
 glm::vec3 primitive_centre(const SceneDesc& scene, const PlacedPrimitive& p) {
