@@ -1,5 +1,6 @@
 // Fresnel, Snell and Beer-Lambert against closed forms, and the invariances they imply.
 #include "core/camera.h"
+#include "core/integrator.h"
 #include "core/optics.h"
 #include "core/render_scene.h"
 #include "core/scene_flatten.h"
@@ -162,4 +163,89 @@ TEST(Invariance, IndexMatchedSphereIsInvisible) {
             ASSERT_NEAR(a.y, b.y, 1e-5f) << x << "," << y;
             ASSERT_NEAR(a.z, b.z, 1e-5f) << x << "," << y;
         }
+}
+
+namespace {
+
+/// Glass, mirror and diffuse objects under a spherical light, everything scaled by `s`.
+caustica::testing::JobBuilder scaled_scene(double s) {
+    JobBuilder b(64, 48);
+    const int root = b.add(NodeKind::group, -1);
+    b.scale(root, glm::dvec3(s));
+    const int floor = b.add(NodeKind::cube, b.material({0.8, 0.7, 0.6}), root);
+    b.translate(floor, {0, -1.1, 0});
+    b.scale(floor, {6, 0.1, 6});
+    MaterialDesc glass;
+    glass.kd = {0.9, 0.95, 1.0};
+    glass.ks = {0.9, 0.9, 0.9};
+    glass.shininess = 50;
+    glass.refractive_index = 1.5;
+    b.scene->materials.push_back(glass);
+    const int ball = b.add(NodeKind::sphere, static_cast<int>(b.scene->materials.size()) - 1, root);
+    b.translate(ball, {-0.8, 0, 0});
+    const int mirror = b.add(NodeKind::sphere, b.material({0, 0, 0}, {0.8, 0.8, 0.8}, 30, true), root);
+    b.translate(mirror, {1.2, -0.3, -0.5});
+    b.scale(mirror, {0.7, 0.7, 0.7});
+    const int box = b.add(NodeKind::cylinder, b.material({0.2, 0.5, 0.8}, {0.3, 0.3, 0.3}, 20), root);
+    b.translate(box, {0.3, -0.6, 1.2});
+    b.scale(box, {0.3, 0.4, 0.3});
+    b.light(glm::dvec3(2, 4, 3) * s, {0.9, 0.9, 0.9});
+    b.scene->lights[0].radius = 0.5 * s;
+    b.camera(glm::dvec3(0, 1, 6) * s, {0, -0.15, -1}, 40);
+    b.job.ambient = {0.1, 0.1, 0.1};
+    b.job.options.unit_distance = s;
+    return b;
+}
+
+}  // namespace
+
+TEST(Invariance, SceneScaledBy1eMinus3And1e4RendersAsAtScale1) {
+    // Offsets are relative to the scene's size, so only float rounding may differ: a pixel may
+    // change where a ray grazes an edge, nowhere else.
+    const Image reference = caustica::testing::render(scaled_scene(1.0).build());
+    for (double s : {1e-3, 1e4}) {
+        const Image scaled = caustica::testing::render(scaled_scene(s).build());
+        int differing = 0;
+        double total = 0.0;
+        for (std::size_t i = 0; i < reference.pixels.size(); ++i) {
+            const glm::vec3 d = glm::abs(scaled.pixels[i] - reference.pixels[i]);
+            const float worst = std::max({d.x, d.y, d.z});
+            total += worst;
+            differing += worst > 1.0f / 255.0f;
+        }
+        EXPECT_LE(differing, static_cast<int>(reference.pixels.size() / 200)) << "scale " << s;  // 0.5%
+        EXPECT_LT(total / reference.pixels.size(), 1e-3) << "scale " << s;
+    }
+}
+
+TEST(SoftShadows, PenumbraFractionAndTheHardSwitch) {
+    // A light of radius 1 at height 10 above the origin; an opaque slab covers x < 0 at height 5.
+    // From the origin the slab's edge passes through the light's centre: half the light is hidden.
+    JobBuilder b(8, 8);
+    const int slab = b.add(NodeKind::cube, b.material({0, 0, 0}));
+    b.translate(slab, {-50, 5, 0});
+    b.scale(slab, {50, 0.01, 50});
+    const RenderJob job = b.build();
+    const RenderScene scene(*job.scene, flatten_scene(*job.scene, job.root, false));
+    ShadingSetup setup;
+    setup.scene = &scene;
+    setup.shadow_grid = 8;
+    const Integrator integrator(setup);
+    Light light;
+    light.position = {0, 10, 0};
+    light.radius = 1.0f;
+    RayCounters counters;
+    double sum = 0.0;
+    for (int i = 0; i < 64; ++i) {
+        RandomStream random(1, i);
+        sum += integrator.light_visibility(light, {0, 0, 0}, random, counters);
+    }
+    EXPECT_NEAR(sum / 64.0, 0.5, 0.03);
+    RandomStream random(1, 99);
+    EXPECT_EQ(integrator.light_visibility(light, {3, 0, 0}, random, counters), 1.0f);   // fully lit
+    EXPECT_EQ(integrator.light_visibility(light, {-3, 0, 0}, random, counters), 0.0f);  // umbra
+    setup.soft_shadows = false;  // --no-soft-shadows: the centre decides, exactly on the edge here
+    const Integrator hard(setup);
+    const float v = hard.light_visibility(light, {0.01f, 0, 0}, random, counters);
+    EXPECT_EQ(v, 1.0f);
 }
