@@ -18,6 +18,7 @@
 
 using namespace caustica;
 using caustica::testing::JobBuilder;
+using caustica::testing::virtual_light_scene;
 
 namespace {
 
@@ -143,50 +144,12 @@ TEST(RadianceEstimate, FewerThanNPhotonsUseTheSearchDisc) {
 
 namespace {
 
-/// The virtual-light scene: a diffuse ceiling lit only through a large mirror below a point
-/// light, whose direct light is stopped by a small black blocker just above it.
-/// With `mirrored_light`, the mirror is gone and a light of intensity ks I sits at the mirror image.
-JobBuilder virtual_light_scene(bool mirrored_light, double scale = 1.0) {
-    JobBuilder b(48, 48);
-    const int root = b.add(NodeKind::group, -1);
-    b.scale(root, glm::dvec3(scale));
-    const int ceiling = b.add(NodeKind::cube, b.material({0.8, 0.8, 0.8}), root);
-    b.translate(ceiling, {0, 3, 0});
-    b.scale(ceiling, {2, 0.05, 2});
-    const int blocker = b.add(NodeKind::cube, b.material({0, 0, 0}), root);
-    b.translate(blocker, {0, 1.1, 0});
-    b.scale(blocker, {0.15, 0.005, 0.15});
-    const double ks = 0.9;
-    if (!mirrored_light) {
-        const int mirror = b.add(NodeKind::cube, b.material({0, 0, 0}, glm::dvec3(ks), 0, true), root);
-        b.translate(mirror, {0, -0.025, 0});
-        b.scale(mirror, {3, 0.025, 3});
-        b.light(glm::dvec3(0, 1, 0) * scale, {1, 1, 1}, {0, 0, 1});
-    } else {
-        b.light(glm::dvec3(0, -1, 0) * scale, glm::dvec3(ks), {0, 0, 1.0});
-    }
-    b.camera(glm::dvec3(0, 0.5, 0) * scale, {0, 1, 0}, 90, {0, 0, -1});
-    b.job.options.disable_aa = true;
-    b.job.options.unit_distance = scale;
-    return b;
-}
-
-/// Mean red value over the pixels that see the ceiling between radii 0.5 and 1.8 around its centre.
+/// Mean red value over the annulus of virtual_light_annulus.
 double annulus_mean(const Image& image, const RenderJob& job, double scale) {
-    const Camera camera(job.camera, job.width, job.height);
     double sum = 0.0;
-    int count = 0;
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) {
-            const Ray ray = camera.generate(x + 0.5f, y + 0.5f);
-            const float t = (2.95f * scale - ray.origin.y) / ray.direction.y;
-            const glm::vec3 p = (ray.origin + t * ray.direction) / static_cast<float>(scale);
-            const float r = std::sqrt(p.x * p.x + p.z * p.z);
-            if (r < 0.5f || r > 1.8f) continue;
-            sum += image.at(x, y).x;
-            ++count;
-        }
-    return sum / count;
+    const std::vector<std::size_t> pixels = caustica::testing::virtual_light_annulus(job, scale);
+    for (std::size_t i : pixels) sum += image.pixels[i].x;
+    return sum / static_cast<double>(pixels.size());
 }
 
 }  // namespace
@@ -361,18 +324,10 @@ TEST(Convergence, ErrorFallsAsPhotonsGrow) {
         b.job.options.draw_caustics_only = true;
         const RenderJob job = b.build();
         const Image image = caustica::testing::render(job);
-        const Camera camera(job.camera, job.width, job.height);
         double squared = 0.0;
-        int count = 0;
-        for (int y = 0; y < 48; ++y)
-            for (int x = 0; x < 48; ++x) {
-                const Ray ray = camera.generate(x + 0.5f, y + 0.5f);
-                const glm::vec3 p = ray.origin + (2.95f - ray.origin.y) / ray.direction.y * ray.direction;
-                const float r = std::sqrt(p.x * p.x + p.z * p.z);
-                if (r < 0.5f || r > 1.8f) continue;
-                squared += std::pow(image.at(x, y).x - truth.at(x, y).x, 2.0);
-                ++count;
-            }
+        const std::vector<std::size_t> pixels = caustica::testing::virtual_light_annulus(job);
+        for (std::size_t i : pixels) squared += std::pow(image.pixels[i].x - truth.pixels[i].x, 2.0);
+        const int count = static_cast<int>(pixels.size());
         const double rmse = std::sqrt(squared / count);
         std::printf("convergence: %lld photons, rmse %.5f\n", photons, rmse);
         EXPECT_LT(rmse, previous * 0.8) << photons;  // 10x photons must cut the error clearly

@@ -1,10 +1,13 @@
 // Helpers for tests that build scenes in C++ rather than Lua.
 #pragma once
 
+#include "core/camera.h"
 #include "core/render_session.h"
 #include "core/scene_desc.h"
 
+#include <cmath>
 #include <memory>
+#include <vector>
 
 namespace caustica::testing {
 
@@ -83,6 +86,50 @@ private:
         scene->nodes[node].transforms.push_back(op);
     }
 };
+
+/// The virtual-light scene: a diffuse ceiling lit only through a large mirror below a point
+/// light, whose direct light is stopped by a small black blocker just above it.
+/// With `mirrored_light`, the mirror is gone and a light of intensity ks I sits at the mirror image.
+inline JobBuilder virtual_light_scene(bool mirrored_light, double scale = 1.0) {
+    JobBuilder b(48, 48);
+    const int root = b.add(NodeKind::group, -1);
+    b.scale(root, glm::dvec3(scale));
+    const int ceiling = b.add(NodeKind::cube, b.material({0.8, 0.8, 0.8}), root);
+    b.translate(ceiling, {0, 3, 0});
+    b.scale(ceiling, {2, 0.05, 2});
+    const int blocker = b.add(NodeKind::cube, b.material({0, 0, 0}), root);
+    b.translate(blocker, {0, 1.1, 0});
+    b.scale(blocker, {0.15, 0.005, 0.15});
+    const double ks = 0.9;
+    if (!mirrored_light) {
+        const int mirror = b.add(NodeKind::cube, b.material({0, 0, 0}, glm::dvec3(ks), 0, true), root);
+        b.translate(mirror, {0, -0.025, 0});
+        b.scale(mirror, {3, 0.025, 3});
+        b.light(glm::dvec3(0, 1, 0) * scale, {1, 1, 1}, {0, 0, 1});
+    } else {
+        b.light(glm::dvec3(0, -1, 0) * scale, glm::dvec3(ks), {0, 0, 1.0});
+    }
+    b.camera(glm::dvec3(0, 0.5, 0) * scale, {0, 1, 0}, 90, {0, 0, -1});
+    b.job.options.disable_aa = true;
+    b.job.options.unit_distance = scale;
+    return b;
+}
+
+/// Pixels of a virtual_light_scene image that see the ceiling between radii 0.5 and 1.8 around
+/// its centre: lit only through the mirror, outside the blocker's shadow.
+inline std::vector<std::size_t> virtual_light_annulus(const RenderJob& job, double scale = 1.0) {
+    const Camera camera(job.camera, job.width, job.height);
+    std::vector<std::size_t> pixels;
+    for (int y = 0; y < job.height; ++y)
+        for (int x = 0; x < job.width; ++x) {
+            const Ray ray = camera.generate(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+            const float t = (2.95f * static_cast<float>(scale) - ray.origin.y) / ray.direction.y;
+            const glm::vec3 p = (ray.origin + t * ray.direction) / static_cast<float>(scale);
+            const float r = std::sqrt(p.x * p.x + p.z * p.z);
+            if (r >= 0.5f && r <= 1.8f) pixels.push_back(static_cast<std::size_t>(y) * job.width + x);
+        }
+    return pixels;
+}
 
 /// Renders a job to completion and returns the image.
 inline Image render(const RenderJob& job) {
