@@ -121,17 +121,27 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
             report.warning = "has no quadratic falloff (c2 = 0), so it gets no caustic photons";
             continue;
         }
-        if (settings.projection_map != ProjectionMapMode::off) {
-            const auto t0 = std::chrono::steady_clock::now();
+        // Auto decides from what the map would cost (one ray per cell) and save (the photons
+        // outside it): no map with fewer photons than twice its cells, and none when a coarse map
+        // (1/16 of the rays) shows 90% of the sphere occupied. Measured in docs/PERFORMANCE.md.
+        const bool automatic = settings.projection_map == ProjectionMapMode::automatic;
+        const long long cells = 2LL * settings.projection_map_granularity * settings.projection_map_granularity;
+        bool try_map = settings.projection_map == ProjectionMapMode::on || (automatic && count > 2 * cells);
+        const auto t_map = std::chrono::steady_clock::now();
+        if (try_map && automatic) {
+            ProjectionMap coarse(std::max(8, settings.projection_map_granularity / 4));
+            coarse.build(scene, light.position);
+            report.occupied_fraction = coarse.occupied_fraction();
+            try_map = report.occupied_fraction < 0.9;
+        }
+        if (try_map) {
             ProjectionMap map(settings.projection_map_granularity);
             map.build(scene, light.position);
             report.occupied_fraction = map.occupied_fraction();
-            // The map pays unless nearly every direction is occupied (measured: docs/PERFORMANCE.md).
-            report.projection_map_used =
-                settings.projection_map == ProjectionMapMode::on || report.occupied_fraction < 0.9;
+            report.projection_map_used = !automatic || report.occupied_fraction < 0.9;
             result.maps[l] = std::move(map);
-            report.map_seconds = seconds_since(t0);
         }
+        report.map_seconds = seconds_since(t_map);
         const ProjectionMap* map = report.projection_map_used ? &result.maps[l] : nullptr;
         const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
         const auto t0 = std::chrono::steady_clock::now();
@@ -156,8 +166,8 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                         u = random.uniform();
                         v = random.uniform();
                     }
+                    if (map && !map->occupied_uv(u, v)) continue;
                     const glm::vec3 direction = sphere_direction(u, v);
-                    if (map && !map->occupied(direction)) continue;
                     ++traced[b];
                     glm::vec3 origin = light.position;
                     if (light.radius > 0.0f) {  // spherical light: leave from its surface

@@ -12,7 +12,10 @@ constexpr double pi = 3.14159265358979323846;
 }
 
 ProjectionMap::ProjectionMap(int granularity)
-    : rows_(granularity), columns_(2 * granularity), cells_(static_cast<std::size_t>(rows_) * columns_, 0) {}
+    : rows_(granularity), columns_(2 * granularity), cells_(static_cast<std::size_t>(rows_) * columns_, 0) {
+    row_bounds_.resize(static_cast<std::size_t>(rows_));
+    for (int row = 0; row < rows_; ++row) row_bounds_[row] = static_cast<float>(0.5 * (1.0 - std::cos(row * pi / rows_)));
+}
 
 std::size_t ProjectionMap::cell_of(const glm::vec3& d) const {
     const double theta = std::acos(std::clamp(static_cast<double>(d.y), -1.0, 1.0));

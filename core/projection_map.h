@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -24,6 +25,14 @@ public:
 
     /// Whether the cell containing a unit direction is set.
     bool occupied(const glm::vec3& direction) const { return cells_[cell_of(direction)] != 0; }
+
+    /// Whether the cell of the direction sphere_direction(u, v) is set (y = 1 - 2u, phi = 2 pi v),
+    /// found without trigonometry: the photon loop asks this for every candidate direction.
+    bool occupied_uv(float u, float v) const {
+        const auto row = static_cast<int>(std::upper_bound(row_bounds_.begin(), row_bounds_.end(), u) - row_bounds_.begin()) - 1;
+        const int column = std::min(columns_ - 1, static_cast<int>(v * static_cast<float>(columns_)));
+        return cells_[static_cast<std::size_t>(std::clamp(row, 0, rows_ - 1)) * columns_ + column] != 0;
+    }
 
     /// Occupied solid angle over 4 pi, with each cell weighted by its true (non-uniform) area.
     double occupied_fraction() const;
@@ -44,6 +53,7 @@ public:
 private:
     int rows_ = 0, columns_ = 0;
     std::vector<std::uint8_t> cells_;
+    std::vector<float> row_bounds_;  ///< u = (1 - cos theta) / 2 where each row starts
 };
 
 }  // namespace caustica

@@ -334,3 +334,30 @@ TEST(Convergence, ErrorFallsAsPhotonsGrow) {
         previous = rmse;
     }
 }
+
+TEST(ProjectionMap, CellLookupFromUvAgreesWithTheDirection) {
+    ProjectionMap map(37);
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> coin(0, 1);
+    for (int r = 0; r < map.rows(); ++r)
+        for (int c = 0; c < map.columns(); ++c) map.set_cell(r, c, coin(rng));
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int mismatches = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const float a = u(rng), b = u(rng);
+        const float y = 1.0f - 2.0f * a, s = std::sqrt(std::max(0.0f, 1.0f - y * y));
+        const glm::vec3 d(s * std::cos(6.2831853f * b), y, s * std::sin(6.2831853f * b));
+        mismatches += map.occupied_uv(a, b) != map.occupied(d);
+    }
+    EXPECT_LE(mismatches, 20);  // only where float rounding puts a direction on a cell border
+}
+
+TEST(ProjectionMap, OccupiedFractionUsesTrueCellAreas) {
+    ProjectionMap map(90);
+    for (int c = 0; c < map.columns(); ++c) map.set_cell(0, c, true);  // the polar cap theta < 2 degrees
+    const double cap = 0.5 * (1.0 - std::cos(3.14159265358979 / 90.0));
+    EXPECT_NEAR(map.occupied_fraction(), cap, 1e-9);
+    for (int r = 0; r < map.rows() / 2; ++r)
+        for (int c = 0; c < map.columns(); ++c) map.set_cell(r, c, true);
+    EXPECT_NEAR(map.occupied_fraction(), 0.5, 1e-9);  // the upper hemisphere
+}
