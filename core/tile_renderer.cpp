@@ -4,8 +4,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace caustica {
+namespace {
+
+/// Debug builds check every pixel: a NaN or infinity is a bug to find, not a value to clamp.
+inline void check_pixel([[maybe_unused]] const glm::vec3& c, [[maybe_unused]] int x, [[maybe_unused]] int y) {
+#ifndef NDEBUG
+    if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
+        throw std::logic_error("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is not finite: (" +
+                               std::to_string(c.x) + ", " + std::to_string(c.y) + ", " + std::to_string(c.z) + ")");
+#endif
+}
+
+}  // namespace
 
 std::vector<Tile> make_tiles(int width, int height, int size) {
     std::vector<Tile> tiles;
@@ -23,6 +37,7 @@ void render_coarse_tile(const TileContext& context, const Tile& tile, int block,
                 context.camera->generate(0.5f * static_cast<float>(x + x1), 0.5f * static_cast<float>(y + y1)), random,
                 counters);
             ++counters.samples;
+            check_pixel(c, x, y);
             for (int yy = y; yy < y1; ++yy)
                 for (int xx = x; xx < x1; ++xx) out.at(xx, yy) = c;
         }
@@ -48,6 +63,7 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
                                             : context.integrator->background(rays[i].direction);
                 if (!found[i]) ++counters.primary;
                 ++counters.samples;
+                check_pixel(out.at(x + i, y), x + i, y);
             }
         }
     }
@@ -89,6 +105,7 @@ void render_antialiasing_tile(const TileContext& context, const Tile& tile, cons
                 }
             }
             out.at(x, y) = sum / static_cast<float>(n * n);
+            check_pixel(out.at(x, y), x, y);
         }
     }
 }

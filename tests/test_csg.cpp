@@ -3,6 +3,7 @@
 #include "core/camera.h"
 #include "core/csg_intervals.h"
 #include "core/integrator.h"
+#include "core/lua/scene_loader.h"
 #include "core/render_scene.h"
 #include "core/scene_flatten.h"
 #include "core/tile_renderer.h"
@@ -581,6 +582,23 @@ TEST(CsgScene, MalformedCsgIsAnError) {
     const int u = csg(c, NodeKind::csg_union, t, t);
     c.scene->nodes[u].csg_right = u;  // contains itself
     EXPECT_THROW(flatten_scene(*c.scene, 0, false), InputError);
+}
+
+TEST(CsgScene, ShippedScenesBuildTheirCsgObjects) {
+    // csg_lens: one lens; csg_showcase: union, die, drilled die, cup, glass of juice, paperweight.
+    for (const auto& [name, objects] : {std::pair{"csg_lens.lua", 1u}, std::pair{"csg_showcase.lua", 6u}}) {
+        const SceneScript script = load_scene_script(std::string(CAUSTICA_SOURCE_DIR "/scenes/") + name);
+        ASSERT_EQ(script.renders.size(), 1u) << name;
+        const RenderJob& job = script.renders[0];
+        const FlatScene flat = flatten_scene(job);
+        EXPECT_EQ(flat.csg_objects.size(), objects) << name;
+        const RenderScene scene(*job.scene, flat);
+        EXPECT_EQ(scene.info().csg_objects, objects) << name;
+        // The camera's central ray meets the scene.
+        const Camera camera(job.camera, job.width, job.height);
+        SurfaceHit hit;
+        EXPECT_TRUE(scene.intersect(camera.generate(0.5f * job.width, 0.5f * job.height), hit)) << name;
+    }
 }
 
 // ---- renders ----

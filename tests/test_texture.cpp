@@ -1,6 +1,7 @@
 // Textures and bump maps: filtering, caching, procedurals, the cube unwrap, remaps, Blinn bump
 // mapping, and an end-to-end textured render. Expected values follow docs/TEXTURES.md.
 #include "core/camera.h"
+#include "core/lua/scene_loader.h"
 #include "core/png_io.h"
 #include "core/shapes.h"
 #include "core/source_location.h"
@@ -566,4 +567,25 @@ TEST_F(TextureRender, BumpMapChangesLambertShadingAsPredicted) {
     const float expected = 1.0f / std::sqrt(1.0f + slope * slope);
     EXPECT_NEAR(image.at(32, 32).r, expected, 2e-4f);
     EXPECT_LT(image.at(32, 32).r, 1.0f - 1e-4f);
+}
+
+TEST(TextureScene, DemoSceneShowsTheDiesYellowTop) {
+    const SceneScript script = load_scene_script(CAUSTICA_SOURCE_DIR "/scenes/textures.lua");
+    ASSERT_EQ(script.renders.size(), 1u);
+    RenderJob job = script.renders[0];
+    job.width = 320;
+    job.height = 200;
+    job.options.disable_aa = true;
+    job.options.silent = true;
+    const Image image = caustica::testing::render(job);
+    // The die (translate(-3.3, 0, 1.6) rotate('y', 35)): its top face at local (-0.5, 1, 0) is in
+    // the top cell's yellow, between the pip and the border.
+    const float c = std::cos(glm::radians(35.0f)), s = std::sin(glm::radians(35.0f));
+    const glm::vec3 p(-3.3f - 0.5f * c, 1.0f, 1.6f + 0.5f * s);
+    glm::vec2 pixel;
+    ASSERT_TRUE(Camera(job.camera, job.width, job.height).project(p, pixel));
+    const glm::vec3 top = image.at(static_cast<int>(pixel.x), static_cast<int>(pixel.y));
+    // Yellow (0.95, 0.85, 0.30) under white light: red and green well above blue.
+    EXPECT_GT(top.r, 2.0f * top.b) << top.r << " " << top.g << " " << top.b;
+    EXPECT_GT(top.g, 2.0f * top.b) << top.r << " " << top.g << " " << top.b;
 }
