@@ -23,6 +23,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <random>
 
 namespace caustica {
@@ -79,6 +80,10 @@ std::uint64_t geometry_fingerprint(const RenderJob& job) {
         h = hash_combine(h, (m.reflective ? 1 : 0) + (m.air ? 2 : 0) + (m.refractive_index ? 4 : 0));
         h = hash_double(h, m.refractive_index.value_or(0.0));
         h = hash_combine(h, static_cast<std::uint64_t>((m.texture + 1) * 65536 + m.bumpmap + 1));
+    }
+    for (const TextureDesc& t : scene.textures) {
+        h = hash_combine(h, std::hash<std::string>{}(t.source));
+        h = hash_combine(h, std::hash<std::string>{}(t.remap) + (t.procedural ? 1 : 0));
     }
     for (const auto& mesh : scene.meshes) h = hash_combine(h, reinterpret_cast<std::uintptr_t>(mesh.get()));
     return h;
