@@ -94,6 +94,7 @@ void print_stats(const RenderStats& stats, bool timing, bool statistics) {
         std::fprintf(stderr, "  analytic primitives    %9zu\n", stats.analytic_primitives);
         std::fprintf(stderr, "  mesh instances         %9zu (%zu meshes, %zu triangles stored, %zu in the world)\n",
                      stats.mesh_instances, stats.unique_meshes, stats.triangles_stored, stats.triangles_instanced);
+        std::fprintf(stderr, "  CSG objects            %9zu (%zu primitives inside)\n", stats.csg_objects, stats.csg_leaves);
         std::fprintf(stderr, "  camera samples         %9llu\n", static_cast<unsigned long long>(r.samples));
         std::fprintf(stderr, "  anti-aliased pixels    %9llu\n", static_cast<unsigned long long>(r.supersampled_pixels));
         std::fprintf(stderr, "  rays: primary          %9llu\n", static_cast<unsigned long long>(r.primary));

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace caustica {
 namespace {
@@ -100,18 +101,88 @@ void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
 void transformed_bounds(const Shape& shape, const glm::mat4& m, glm::vec3& lo, glm::vec3& hi) {
     glm::vec3 olo, ohi;
     shape_bounds(shape, olo, ohi);
-    lo = glm::vec3(ray_infinity);
-    hi = glm::vec3(-ray_infinity);
-    for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec3 p((corner & 1) ? ohi.x : olo.x, (corner & 2) ? ohi.y : olo.y, (corner & 4) ? ohi.z : olo.z);
-        const glm::vec3 w = glm::vec3(m * glm::vec4(p, 1.0f));
-        lo = glm::min(lo, w);
-        hi = glm::max(hi, w);
+    transformed_box(olo, ohi, m, lo, hi);
+}
+
+/// What a CSG hit leaves for fill_hit (Embree's hit record has no room for the leaf and media).
+struct CsgHitRecord {
+    int leaf = -1, face = 0, material = -1, medium_inside = -1, medium_outside = -1;
+};
+
+/// One record per ray of a packet and per thread: the CSG intersect callback writes it for each
+/// hit it accepts (so the last write is the final hit's), and fill_hit reads it right after the
+/// query on the same thread (Embree runs a query's callbacks on the thread that asked).
+thread_local CsgHitRecord csg_records[8];
+
+/// What the CSG user geometry's callbacks read.
+struct CsgGeometry {
+    const CsgTree* trees;
+};
+
+void csg_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* geometry = static_cast<const CsgGeometry*>(args->geometryUserPtr);
+    const CsgTree& tree = geometry->trees[args->primID];
+    const glm::vec3 lo = tree.lo(), hi = tree.hi();
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = lo.x, b->lower_y = lo.y, b->lower_z = lo.z;
+    b->upper_x = hi.x, b->upper_y = hi.y, b->upper_z = hi.z;
+}
+
+void csg_intersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* geometry = static_cast<const CsgGeometry*>(args->geometryUserPtr);
+    const CsgTree& tree = geometry->trees[args->primID];
+    const unsigned n = args->N;
+    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
+    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
+        const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
+        CsgSegmentList list;
+        CsgBoundary boundary;
+        if (!tree.first_boundary(o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), list, boundary)) continue;
+        const CsgCrossing& surface = *boundary.surface;
+        const glm::vec3 normal = tree.leaf(surface.leaf).normal_to_world * surface.normal;
+        RTCRayN_tfar(ray, n, i) = surface.t;
+        RTCHitN_Ng_x(hit, n, i) = normal.x;
+        RTCHitN_Ng_y(hit, n, i) = normal.y;
+        RTCHitN_Ng_z(hit, n, i) = normal.z;
+        RTCHitN_u(hit, n, i) = 0.0f;
+        RTCHitN_v(hit, n, i) = 0.0f;
+        RTCHitN_primID(hit, n, i) = args->primID;
+        RTCHitN_geomID(hit, n, i) = args->geomID;
+        for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
+            RTCHitN_instID(hit, n, i, level) = args->context->instID[level];
+        csg_records[RTCRayN_id(ray, n, i) & 7u] = {surface.leaf, surface.face, surface.material,
+                                                   boundary.medium_inside, boundary.medium_outside};
     }
-    // Pad by a relative margin so that float rounding in the callbacks never falls outside.
-    const glm::vec3 pad = 1e-5f * (hi - lo) + 1e-6f * glm::max(glm::abs(lo), glm::abs(hi));
-    lo -= pad;
-    hi += pad;
+}
+
+void csg_occluded(const RTCOccludedFunctionNArguments* args) {
+    const auto* geometry = static_cast<const CsgGeometry*>(args->geometryUserPtr);
+    const CsgTree& tree = geometry->trees[args->primID];
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        const glm::vec3 o(RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
+                          RTCRayN_org_z(args->ray, n, i));
+        const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
+                          RTCRayN_dir_z(args->ray, n, i));
+        CsgSegmentList list;
+        CsgBoundary boundary;
+        if (tree.first_boundary(o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), list, boundary))
+            RTCRayN_tfar(args->ray, n, i) = -ray_infinity;
+    }
+}
+
+/// Barycentric coordinates (of v1 and v2) of a point in the plane of a triangle.
+glm::vec2 barycentric(const glm::vec3& p, const glm::vec3& v0, const glm::vec3& v1, const glm::vec3& v2) {
+    const glm::vec3 e1 = v1 - v0, e2 = v2 - v0, q = p - v0;
+    const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    const float q1 = glm::dot(q, e1), q2 = glm::dot(q, e2);
+    const float det = d11 * d22 - d12 * d12;
+    if (!(std::fabs(det) > 0.0f)) return {0.0f, 0.0f};
+    return {(d22 * q1 - d12 * q2) / det, (d11 * q2 - d12 * q1) / det};
 }
 
 RTCRay to_embree(const Ray& ray) {
@@ -139,11 +210,41 @@ RTCDevice embree_device() {
     return device;
 }
 
-// The user geometry's callback data, owned by the scene.
+// The user geometries' callback data, owned by the scene.
 struct RenderScene::AnalyticHolder {
     AnalyticGeometry geometry;
     std::vector<glm::vec3> lo, hi;
 };
+struct RenderScene::CsgHolder {
+    CsgGeometry geometry;
+};
+
+int RenderScene::mesh_slot(const SceneDesc& desc, int mesh_index, bool robust) {
+    auto [it, inserted] = mesh_slot_.try_emplace(mesh_index, static_cast<int>(mesh_scenes_.size()));
+    if (!inserted) return it->second;
+    RTCDevice device = embree_device();
+    const MeshData& mesh = *desc.meshes.at(mesh_index);
+    RTCScene mesh_scene = rtcNewScene(device);
+    rtcSetSceneBuildQuality(mesh_scene, RTC_BUILD_QUALITY_HIGH);
+    // CSG counts a mesh's crossings along a line: ask Embree for its watertight intersection.
+    if (robust) rtcSetSceneFlags(mesh_scene, RTC_SCENE_FLAG_ROBUST);
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3, mesh.positions.size()));
+    std::memcpy(vertices, mesh.positions.data(), sizeof(float) * 3 * mesh.positions.size());
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(unsigned) * 3, mesh.triangles.size()));
+    std::memcpy(indices, mesh.triangles.data(), sizeof(unsigned) * 3 * mesh.triangles.size());
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(mesh_scene, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(mesh_scene);
+    check_device(device, "building a mesh");
+    mesh_scenes_.push_back(mesh_scene);
+    meshes_.push_back(desc.meshes.at(mesh_index));
+    info_.triangles_stored += mesh.triangles.size();
+    return it->second;
+}
 
 RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
     RTCDevice device = embree_device();
@@ -157,7 +258,10 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
 
     auto holder = std::make_unique<AnalyticHolder>();
-    std::unordered_map<int, int> mesh_slot;  // SceneDesc mesh index -> mesh_scenes_ index
+    std::unordered_set<int> csg_meshes;  // meshes that CSG traces through
+    for (const FlatCsgObject& object : flat.csg_objects)
+        for (const PlacedPrimitive& leaf : object.leaves)
+            if (leaf.is_mesh) csg_meshes.insert(leaf.mesh);
     struct PendingInstance {
         int slot;
         glm::mat4 transform;
@@ -177,30 +281,16 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
             holder->hi.push_back(hi);
             continue;
         }
-        auto [it, inserted] = mesh_slot.try_emplace(p.mesh, static_cast<int>(mesh_scenes_.size()));
-        if (inserted) {
-            const MeshData& mesh = *desc.meshes.at(p.mesh);
-            RTCScene mesh_scene = rtcNewScene(device);
-            rtcSetSceneBuildQuality(mesh_scene, RTC_BUILD_QUALITY_HIGH);
-            RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-                g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3, mesh.positions.size()));
-            std::memcpy(vertices, mesh.positions.data(), sizeof(float) * 3 * mesh.positions.size());
-            auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-                g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(unsigned) * 3, mesh.triangles.size()));
-            std::memcpy(indices, mesh.triangles.data(), sizeof(unsigned) * 3 * mesh.triangles.size());
-            rtcCommitGeometry(g);
-            rtcAttachGeometry(mesh_scene, g);
-            rtcReleaseGeometry(g);
-            rtcCommitScene(mesh_scene);
-            check_device(device, "building a mesh");
-            mesh_scenes_.push_back(mesh_scene);
-            meshes_.push_back(desc.meshes.at(p.mesh));
-            info_.triangles_stored += mesh.triangles.size();
-        }
-        pending.push_back({it->second, to_world, material});
-        info_.triangles_instanced += meshes_[it->second]->triangles.size();
-        instances_.push_back({it->second, glm::mat3(to_world), normal_to_world, material});
+        const int slot = mesh_slot(desc, p.mesh, csg_meshes.count(p.mesh) > 0);
+        pending.push_back({slot, to_world, material});
+        info_.triangles_instanced += meshes_[slot]->triangles.size();
+        instances_.push_back({slot, glm::mat3(to_world), normal_to_world, material});
+    }
+    for (const FlatCsgObject& object : flat.csg_objects) {
+        CsgTree tree(object, desc, default_material_,
+                     [&](int mesh) { return mesh_scenes_[mesh_slot(desc, mesh, true)]; });
+        info_.csg_leaves += tree.leaf_count();
+        if (!tree.empty()) csg_.push_back(std::move(tree));  // an empty root box is never hit
     }
 
     if (!analytic_.empty()) {
@@ -224,17 +314,33 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
         rtcAttachGeometryByID(scene_, g, first_instance_id_ + static_cast<unsigned>(i));
         rtcReleaseGeometry(g);
     }
+    auto csg_holder = std::make_unique<CsgHolder>();
+    if (!csg_.empty()) {
+        csg_holder->geometry = {csg_.data()};
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(csg_.size()));
+        rtcSetGeometryUserData(g, &csg_holder->geometry);
+        rtcSetGeometryBoundsFunction(g, csg_bounds, nullptr);
+        rtcSetGeometryIntersectFunction(g, csg_intersect);
+        rtcSetGeometryOccludedFunction(g, csg_occluded);
+        rtcCommitGeometry(g);
+        csg_geom_id_ = first_instance_id_ + static_cast<unsigned>(pending.size());
+        rtcAttachGeometryByID(scene_, g, csg_geom_id_);
+        rtcReleaseGeometry(g);
+    }
     rtcCommitScene(scene_);
     check_device(device, "building the scene");
     holder_ = std::move(holder);
+    csg_holder_ = std::move(csg_holder);
 
     info_.analytic_primitives = analytic_.size();
     info_.mesh_instances = instances_.size();
     info_.unique_meshes = mesh_scenes_.size();
+    info_.csg_objects = csg_.size();
 
     RTCBounds b;
     rtcGetSceneBounds(scene_, &b);
-    if (flat.primitives.empty() || !(b.lower_x <= b.upper_x)) {
+    if ((flat.primitives.empty() && csg_.empty()) || !(b.lower_x <= b.upper_x)) {
         lo_ = hi_ = glm::vec3(0.0f);
     } else {
         lo_ = {b.lower_x, b.lower_y, b.lower_z};
@@ -242,6 +348,11 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
     }
     const float diagonal = glm::length(hi_ - lo_);
     epsilon_ = (std::isfinite(diagonal) && diagonal > 0.0f) ? 1e-5f * diagonal : 1e-4f;
+    // CSG treats surfaces closer than the ray offset as touching (seed 1.2's epsilon).
+    for (CsgTree& tree : csg_) {
+        tree.set_epsilon(epsilon_);
+        tree.set_bounding_boxes(flat.csg_bounding_boxes);
+    }
 }
 
 RenderScene::~RenderScene() {
@@ -249,10 +360,40 @@ RenderScene::~RenderScene() {
     for (RTCScene s : mesh_scenes_) rtcReleaseScene(s);
 }
 
-void RenderScene::fill_hit(const RTCRayHit& rh, SurfaceHit& hit) const {
+void RenderScene::fill_mesh_surface(const MeshData& mesh, unsigned triangle, float b1, float b2,
+                                    const glm::mat3& object_to_world, SurfaceHit& hit) {
+    const glm::uvec3 tri = mesh.triangles[triangle];
+    const glm::vec3 v0 = mesh.positions[tri.x], v1 = mesh.positions[tri.y], v2 = mesh.positions[tri.z];
+    hit.face = 0;
+    hit.shape_kind = -1;
+    hit.object_position = (1.0f - b1 - b2) * v0 + b1 * v1 + b2 * v2;
+    glm::vec2 t0(0.0f, 0.0f), t1(1.0f, 0.0f), t2(0.0f, 1.0f);
+    if (!mesh.texcoords.empty()) {
+        const std::size_t c = static_cast<std::size_t>(triangle) * 3;
+        t0 = mesh.texcoords[c], t1 = mesh.texcoords[c + 1], t2 = mesh.texcoords[c + 2];
+    }
+    hit.uv = (1.0f - b1 - b2) * t0 + b1 * t1 + b2 * t2;
+    // Tangents from the triangle's texture mapping: solve [e1 e2] = [dpdu dpdv] [du dv].
+    const glm::vec2 duv1 = t1 - t0, duv2 = t2 - t0;
+    const float det = duv1.x * duv2.y - duv1.y * duv2.x;
+    const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
+    glm::vec3 dpdu(0.0f), dpdv(0.0f);
+    if (std::fabs(det) > 1e-12f) {
+        dpdu = (duv2.y * e1 - duv1.y * e2) / det;
+        dpdv = (-duv2.x * e1 + duv1.x * e2) / det;
+    }
+    hit.dpdu = object_to_world * dpdu;
+    hit.dpdv = object_to_world * dpdv;
+}
+
+void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const {
     hit.t = rh.ray.tfar;
     hit.position = glm::vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) +
                    hit.t * glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+    if (rh.hit.geomID == csg_geom_id_) {
+        fill_csg_hit(rh, lane, hit);
+        return;
+    }
     const unsigned instance = rh.hit.instID[0];
     if (instance == RTC_INVALID_GEOMETRY_ID) {
         const AnalyticPrimitive& prim = analytic_[rh.hit.primID];
@@ -273,31 +414,41 @@ void RenderScene::fill_hit(const RTCRayHit& rh, SurfaceHit& hit) const {
         const glm::vec3 v0 = mesh.positions[tri.x], v1 = mesh.positions[tri.y], v2 = mesh.positions[tri.z];
         // Our own winding rule (counter-clockwise = outward, as OBJ files are written), not Embree's.
         hit.normal = glm::normalize(inst.normal_to_world * glm::cross(v1 - v0, v2 - v0));
-        hit.face = 0;
-        hit.shape_kind = -1;
         hit.material = inst.material;
-        const float b1 = rh.hit.u, b2 = rh.hit.v;
-        hit.object_position = (1.0f - b1 - b2) * v0 + b1 * v1 + b2 * v2;
-        glm::vec2 t0(0.0f, 0.0f), t1(1.0f, 0.0f), t2(0.0f, 1.0f);
-        if (!mesh.texcoords.empty()) {
-            const std::size_t c = static_cast<std::size_t>(rh.hit.primID) * 3;
-            t0 = mesh.texcoords[c], t1 = mesh.texcoords[c + 1], t2 = mesh.texcoords[c + 2];
-        }
-        hit.uv = (1.0f - b1 - b2) * t0 + b1 * t1 + b2 * t2;
-        // Tangents from the triangle's texture mapping: solve [e1 e2] = [dpdu dpdv] [du dv].
-        const glm::vec2 duv1 = t1 - t0, duv2 = t2 - t0;
-        const float det = duv1.x * duv2.y - duv1.y * duv2.x;
-        const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
-        glm::vec3 dpdu(0.0f), dpdv(0.0f);
-        if (std::fabs(det) > 1e-12f) {
-            dpdu = (duv2.y * e1 - duv1.y * e2) / det;
-            dpdv = (-duv2.x * e1 + duv1.x * e2) / det;
-        }
-        hit.dpdu = inst.object_to_world * dpdu;
-        hit.dpdv = inst.object_to_world * dpdv;
+        fill_mesh_surface(mesh, rh.hit.primID, rh.hit.u, rh.hit.v, inst.object_to_world, hit);
     }
     hit.medium_inside = hit.material;
     hit.medium_outside = -1;
+}
+
+void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const {
+    const CsgTree& tree = csg_[rh.hit.primID];
+    const CsgHitRecord& record = csg_records[lane & 7];
+    const CsgLeaf& leaf = tree.leaf(record.leaf);
+    // The normal of the surface the CSG chose, already oriented from its inside medium to its outside.
+    const glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    hit.normal = glm::dot(ng, ng) > 0.0f ? glm::normalize(ng)
+                                         : -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z));
+    hit.material = record.material;
+    hit.medium_inside = record.medium_inside;
+    hit.medium_outside = record.medium_outside;
+    const glm::vec3 object_position = glm::vec3(leaf.world_to_object * glm::vec4(hit.position, 1.0f));
+    if (leaf.is_mesh) {
+        const unsigned triangle = static_cast<unsigned>(record.face);
+        const glm::uvec3 tri = leaf.mesh->triangles[triangle];
+        const glm::vec2 b = barycentric(object_position, leaf.mesh->positions[tri.x], leaf.mesh->positions[tri.y],
+                                        leaf.mesh->positions[tri.z]);
+        fill_mesh_surface(*leaf.mesh, triangle, b.x, b.y, leaf.object_to_world, hit);
+        return;
+    }
+    hit.face = record.face;
+    hit.shape_kind = static_cast<int>(leaf.shape.kind);
+    hit.object_position = object_position;
+    hit.uv = shape_uv(leaf.shape, object_position, hit.face);
+    glm::vec3 dpdu, dpdv;
+    shape_tangents(leaf.shape, object_position, hit.face, dpdu, dpdv);
+    hit.dpdu = leaf.object_to_world * dpdu;
+    hit.dpdv = leaf.object_to_world * dpdv;
 }
 
 bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
@@ -309,7 +460,7 @@ bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene_, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    fill_hit(rh, hit);
+    fill_hit(rh, 0, hit);
     return true;
 }
 
@@ -354,7 +505,7 @@ void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits
         one.hit.primID = packet.hit.primID[i];
         one.hit.geomID = packet.hit.geomID[i];
         one.hit.instID[0] = packet.hit.instID[0][i];
-        fill_hit(one, hits[i]);
+        fill_hit(one, i, hits[i]);
     }
 }
 

@@ -1,7 +1,9 @@
-// The traceable scene: Embree BVH over analytic primitives (user geometry) and mesh instances
-// (one triangle BVH per mesh file, instanced wherever the mesh is reused), plus materials.
+// The traceable scene: Embree BVH over analytic primitives (user geometry), mesh instances
+// (one triangle BVH per mesh file, instanced wherever the mesh is reused) and CSG objects (a
+// second user geometry, one primitive per object), plus materials.
 #pragma once
 
+#include "core/csg_tree.h"
 #include "core/material.h"
 #include "core/ray.h"
 #include "core/scene_flatten.h"
@@ -9,6 +11,7 @@
 #include <embree3/rtcore.h>
 
 #include <memory>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -21,6 +24,8 @@ struct SceneBuildInfo {
     std::size_t unique_meshes = 0;
     std::size_t triangles_stored = 0;     ///< triangles held once per mesh file
     std::size_t triangles_instanced = 0;  ///< triangles as seen in the world
+    std::size_t csg_objects = 0;
+    std::size_t csg_leaves = 0;           ///< primitives inside CSG objects
 };
 
 /// Immutable after build; safe to trace from any number of threads.
@@ -48,6 +53,8 @@ public:
     /// Ray offset for secondary rays: relative to the scene's size, so a scaled scene renders the same.
     float epsilon() const { return epsilon_; }
     const SceneBuildInfo& info() const { return info_; }
+    /// The CSG objects, in the order of FlatScene::csg_objects (empty ones left out).
+    const std::vector<CsgTree>& csg_objects() const { return csg_; }
 
     /// The raw Embree scene, for benchmarks that compare against it.
     RTCScene embree_scene() const { return scene_; }
@@ -69,13 +76,25 @@ public:
     };
 
 private:
-    void fill_hit(const RTCRayHit& rh, SurfaceHit& hit) const;
+    /// Fills `hit` from Embree's answer; `lane` is the ray's index in its packet (0 for one ray).
+    void fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const;
+    void fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const;
+    /// Object position, uv and tangents of a point of a mesh triangle (barycentrics b1, b2).
+    static void fill_mesh_surface(const MeshData& mesh, unsigned triangle, float b1, float b2,
+                                  const glm::mat3& object_to_world, SurfaceHit& hit);
+    /// The mesh_scenes_ slot of a scene mesh, building its BVH on first use.
+    int mesh_slot(const SceneDesc& desc, int mesh, bool robust);
 
     struct AnalyticHolder;
     std::unique_ptr<AnalyticHolder> holder_;  // callback data for the analytic user geometry
+    struct CsgHolder;
+    std::unique_ptr<CsgHolder> csg_holder_;   // callback data for the CSG user geometry
+    std::vector<CsgTree> csg_;
+    unsigned csg_geom_id_ = RTC_INVALID_GEOMETRY_ID;
     RTCScene scene_ = nullptr;
     std::vector<RTCScene> mesh_scenes_;
     std::vector<std::shared_ptr<const MeshData>> meshes_;
+    std::unordered_map<int, int> mesh_slot_;    // SceneDesc mesh index -> mesh_scenes_ index
     std::vector<AnalyticPrimitive> analytic_;
     std::vector<MeshInstance> instances_;       // indexed by top-level geometry id - first_instance_id_
     unsigned analytic_geom_id_ = RTC_INVALID_GEOMETRY_ID;

@@ -61,7 +61,7 @@ std::uint64_t hash_vec(std::uint64_t h, const glm::dvec3& v) {
 
 std::uint64_t geometry_fingerprint(const RenderJob& job) {
     std::uint64_t h = hash_combine(0x6361757374696361ULL, static_cast<std::uint64_t>(job.root));
-    h = hash_combine(h, job.options.a4 ? 1 : 0);
+    h = hash_combine(h, (job.options.a4 ? 1 : 0) + (job.options.disable_csg_bb ? 2 : 0));
     const SceneDesc& scene = *job.scene;
     for (const NodeDesc& node : scene.nodes) {
         h = hash_combine(h, static_cast<std::uint64_t>(node.kind));
@@ -125,7 +125,7 @@ void RenderSession::prepare_scene() {
     }
     set_stage("building the scene");
     const double t0 = now_seconds();
-    FlatScene flat = flatten_scene(*job_.scene, job_.root, job_.options.a4);
+    FlatScene flat = flatten_scene(job_);
     {
         std::lock_guard lock(mutex_);  // pick() may be reading the old scene from another thread
         scene_.reset();
@@ -146,6 +146,8 @@ void RenderSession::prepare_scene() {
     stats_.unique_meshes = info.unique_meshes;
     stats_.triangles_stored = info.triangles_stored;
     stats_.triangles_instanced = info.triangles_instanced;
+    stats_.csg_objects = info.csg_objects;
+    stats_.csg_leaves = info.csg_leaves;
 }
 
 void RenderSession::prepare_caustics() {

@@ -47,6 +47,7 @@ struct RenderStats {
     std::vector<StageTime> stages;
     std::size_t analytic_primitives = 0, mesh_instances = 0, unique_meshes = 0;
     std::size_t triangles_stored = 0, triangles_instanced = 0;
+    std::size_t csg_objects = 0, csg_leaves = 0;
     int threads = 0;
     double total_seconds = 0.0;
     std::vector<LightCausticStats> caustic_lights;

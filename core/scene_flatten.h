@@ -23,9 +23,29 @@ struct PlacedPrimitive {
     int node = -1;               ///< the node that made it (for messages)
 };
 
+/// One node of a flattened CSG tree: an operation on two other nodes, or a leaf primitive.
+struct FlatCsgNode {
+    enum class Kind { leaf, unite, intersect, subtract };
+    Kind kind = Kind::leaf;
+    int left = -1, right = -1;  ///< operand nodes (indices into FlatCsgObject::nodes)
+    int leaf = -1;              ///< index into FlatCsgObject::leaves for a leaf
+};
+
+/// A CSG object: the tree under a CSG node expanded to world space (a DAG reused inside the tree
+/// is copied per use). Groups and a node's children are implicit unions, later children
+/// winning where media overlap (seed 1.2).
+struct FlatCsgObject {
+    int node = -1;                          ///< the CSG node that made it (for messages)
+    std::vector<PlacedPrimitive> leaves;    ///< world transforms and inherited materials
+    std::vector<FlatCsgNode> nodes;
+    int root = -1;                          ///< index into nodes
+};
+
 /// The world-space content of one render job.
 struct FlatScene {
-    std::vector<PlacedPrimitive> primitives;
+    std::vector<PlacedPrimitive> primitives;  ///< standalone primitives (not CSG operands)
+    std::vector<FlatCsgObject> csg_objects;
+    bool csg_bounding_boxes = true;           ///< test the boxes of CSG subtrees (off: --disable-csg-bb)
     std::vector<std::string> warnings;
 };
 
@@ -33,7 +53,10 @@ struct FlatScene {
 glm::dmat4 compose_transforms(const std::vector<TransformOp>& ops, bool course_convention);
 
 /// Walks the DAG from `root`. Throws InputError naming the node's script line for a singular or
-/// non-finite world transform, or for CSG (not supported yet).
+/// non-finite world transform, a cycle, or a CSG node without two operands.
 FlatScene flatten_scene(const SceneDesc& scene, int root, bool course_convention);
+
+/// Flattens a render job with its options (the convention, and --disable-csg-bb).
+FlatScene flatten_scene(const RenderJob& job);
 
 }  // namespace caustica

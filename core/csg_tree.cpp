@@ -1,0 +1,298 @@
+#include "core/csg_tree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace caustica {
+namespace {
+
+constexpr float infinity = std::numeric_limits<float>::infinity();
+
+/// Upper limit on the surface crossings gathered from one mesh along one line.
+constexpr int max_mesh_crossings = 1024;
+
+bool box_is_empty(const glm::vec3& lo, const glm::vec3& hi) { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
+
+/// Where the line o + t d is inside the box, clipped to [t0, t1]; false when that is empty.
+bool clip_line_to_box(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& o, const glm::vec3& d, float& t0,
+                      float& t1) {
+    if (box_is_empty(lo, hi)) return false;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (d[axis] == 0.0f) {
+            if (o[axis] < lo[axis] || o[axis] > hi[axis]) return false;
+            continue;
+        }
+        float near = (lo[axis] - o[axis]) / d[axis], far = (hi[axis] - o[axis]) / d[axis];
+        if (near > far) std::swap(near, far);
+        t0 = std::max(t0, near);
+        t1 = std::min(t1, far);
+        if (!(t0 <= t1)) return false;
+    }
+    return true;
+}
+
+/// 1 / d per axis, with a huge finite value for a zero component so that slab tests never
+/// compute 0 * infinity.
+glm::vec3 safe_reciprocal(const glm::vec3& d) {
+    glm::vec3 r;
+    for (int axis = 0; axis < 3; ++axis)
+        r[axis] = std::fabs(d[axis]) > 1e-30f ? 1.0f / d[axis] : std::numeric_limits<float>::max();
+    return r;
+}
+
+/// The branch-free slab test of the per-node box culling: whether the line meets a (non-empty)
+/// box within [t0, t1]. Conservative where a zero direction component makes it approximate.
+bool box_meets_range(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& o, const glm::vec3& inv_d, float t0,
+                     float t1) {
+    const glm::vec3 a = (lo - o) * inv_d, b = (hi - o) * inv_d;
+    const glm::vec3 near = glm::min(a, b), far = glm::max(a, b);
+    return std::max(std::max(near.x, near.y), std::max(near.z, t0)) <=
+           std::min(std::min(far.x, far.y), std::min(far.z, t1));
+}
+
+}  // namespace
+
+void transformed_box(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& m, glm::vec3& out_lo,
+                     glm::vec3& out_hi) {
+    out_lo = glm::vec3(infinity);
+    out_hi = glm::vec3(-infinity);
+    if (box_is_empty(lo, hi)) return;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+        const glm::vec3 w = glm::vec3(m * glm::vec4(p, 1.0f));
+        out_lo = glm::min(out_lo, w);
+        out_hi = glm::max(out_hi, w);
+    }
+    const glm::vec3 pad = 1e-5f * (out_hi - out_lo) + 1e-6f * glm::max(glm::abs(out_lo), glm::abs(out_hi));
+    out_lo -= pad;
+    out_hi += pad;
+}
+
+void mesh_leaf_segments(const CsgLeaf& leaf, int leaf_index, const glm::vec3& o, const glm::vec3& d, float box_in,
+                        float box_out, CsgSegmentList& out) {
+    out.clear();
+    const MeshData& mesh = *leaf.mesh;
+    const glm::vec3 oo = glm::vec3(leaf.world_to_object * glm::vec4(o, 1.0f));
+    const glm::vec3 dd = glm::mat3(leaf.world_to_object) * d;
+    const float speed = glm::length(dd);
+    if (!(speed > 0.0f) || !leaf.mesh_scene) return;
+    const float step = leaf.mesh_step / speed;  // in units of t
+    // Start just outside the box, where the line is certainly outside the mesh.
+    const float start = box_in - 2.0f * step;
+    const glm::vec3 origin = oo + start * dd;
+    const float span = box_out + 2.0f * step - start;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    int depth = 0, last_kind = 0;
+    float last_t = -infinity, tnear = 0.0f;
+    CsgSegment open;
+    for (int i = 0; i < max_mesh_crossings && tnear <= span; ++i) {
+        RTCRayHit rh;
+        rh.ray.org_x = origin.x, rh.ray.org_y = origin.y, rh.ray.org_z = origin.z;
+        rh.ray.dir_x = dd.x, rh.ray.dir_y = dd.y, rh.ray.dir_z = dd.z;
+        rh.ray.tnear = tnear;
+        rh.ray.tfar = span;
+        rh.ray.mask = 0xffffffffu;
+        rh.ray.flags = 0;
+        rh.ray.time = 0.0f;
+        rh.ray.id = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(leaf.mesh_scene, &context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        const float t = rh.ray.tfar;
+        tnear = t + step;
+        const glm::uvec3 tri = mesh.triangles[rh.hit.primID];
+        const glm::vec3 v0 = mesh.positions[tri.x], v1 = mesh.positions[tri.y], v2 = mesh.positions[tri.z];
+        const glm::vec3 normal = glm::cross(v1 - v0, v2 - v0);  // counter-clockwise = outward
+        const float facing = glm::dot(normal, dd);
+        if (facing == 0.0f) continue;  // edge-on: not a crossing
+        const int kind = facing < 0.0f ? 1 : -1;  // entering : leaving
+        // Through a shared edge or vertex the same crossing can be reported by two triangles.
+        if (kind == last_kind && t - last_t <= 4.0f * step) continue;
+        last_kind = kind;
+        last_t = t;
+        const CsgCrossing c{start + t, normal, leaf.material, leaf_index, static_cast<int>(rh.hit.primID), false};
+        if (kind > 0) {
+            if (depth++ == 0) open.enter = c;
+        } else if (depth > 0 && --depth == 0) {
+            open.leave = c;
+            open.medium = leaf.material;
+            out.push_back(open);
+        }
+    }
+}
+
+CsgTree::CsgTree(const FlatCsgObject& object, const SceneDesc& desc, int default_material,
+                 const std::function<RTCScene(int)>& mesh_scene)
+    : source_node_(object.node) {
+    for (const PlacedPrimitive& p : object.leaves) {
+        CsgLeaf leaf;
+        const glm::mat4 to_world(p.object_to_world);
+        leaf.world_to_object = glm::mat4(glm::inverse(p.object_to_world));
+        leaf.object_to_world = glm::mat3(to_world);
+        leaf.normal_to_world = glm::mat3(glm::transpose(glm::inverse(p.object_to_world)));
+        leaf.material = p.material >= 0 ? p.material : default_material;
+        glm::vec3 lo(infinity), hi(-infinity);
+        if (p.is_mesh) {
+            leaf.is_mesh = true;
+            leaf.mesh = desc.meshes.at(static_cast<std::size_t>(p.mesh)).get();
+            leaf.mesh_scene = mesh_scene(p.mesh);
+            for (const glm::vec3& v : leaf.mesh->positions) {
+                lo = glm::min(lo, v);
+                hi = glm::max(hi, v);
+            }
+            leaf.mesh_step = box_is_empty(lo, hi) ? 0.0f : 1e-6f * glm::length(hi - lo);
+        } else {
+            leaf.shape = p.shape;
+            shape_bounds(p.shape, lo, hi);
+        }
+        transformed_box(lo, hi, to_world, leaf.lo, leaf.hi);
+        leaves_.push_back(leaf);
+    }
+    root_ = build(object, object.root);
+}
+
+bool CsgTree::empty() const { return box_is_empty(lo(), hi()); }
+
+int CsgTree::build(const FlatCsgObject& object, int flat_index) {
+    using Kind = FlatCsgNode::Kind;
+    const FlatCsgNode& flat = object.nodes.at(static_cast<std::size_t>(flat_index));
+    Node node;
+    node.kind = flat.kind;
+    if (flat.kind == Kind::leaf) {
+        node.leaf = flat.leaf;
+        node.lo = leaves_[static_cast<std::size_t>(flat.leaf)].lo;
+        node.hi = leaves_[static_cast<std::size_t>(flat.leaf)].hi;
+    } else if (flat.kind == Kind::unite) {
+        // Union is associative, media included (the later operand wins either way), so a chain
+        // such as u = union(u, x) in a script loop is rebuilt balanced for its boxes.
+        std::vector<int> operands, stack{flat_index};
+        while (!stack.empty()) {
+            const int i = stack.back();
+            stack.pop_back();
+            const FlatCsgNode& n = object.nodes.at(static_cast<std::size_t>(i));
+            if (n.kind == Kind::unite) {
+                stack.push_back(n.right);
+                stack.push_back(n.left);
+            } else {
+                operands.push_back(build(object, i));
+            }
+        }
+        while (operands.size() > 1) {  // pair neighbours level by level, keeping their order
+            std::vector<int> level;
+            for (std::size_t i = 0; i + 1 < operands.size(); i += 2) {
+                Node u;
+                u.kind = Kind::unite;
+                u.left = operands[i];
+                u.right = operands[i + 1];
+                u.lo = glm::min(nodes_[static_cast<std::size_t>(u.left)].lo, nodes_[static_cast<std::size_t>(u.right)].lo);
+                u.hi = glm::max(nodes_[static_cast<std::size_t>(u.left)].hi, nodes_[static_cast<std::size_t>(u.right)].hi);
+                u.empty_box = box_is_empty(u.lo, u.hi);
+                nodes_.push_back(u);
+                level.push_back(static_cast<int>(nodes_.size()) - 1);
+            }
+            if (operands.size() % 2 == 1) level.push_back(operands.back());
+            operands = std::move(level);
+        }
+        return operands.front();
+    } else {
+        node.left = build(object, flat.left);
+        node.right = build(object, flat.right);
+        const Node& l = nodes_[static_cast<std::size_t>(node.left)];
+        const Node& r = nodes_[static_cast<std::size_t>(node.right)];
+        node.lo = l.lo;
+        node.hi = l.hi;
+        if (flat.kind == Kind::intersect) {
+            node.lo = glm::max(l.lo, r.lo);
+            node.hi = glm::min(l.hi, r.hi);
+        }
+    }
+    node.empty_box = box_is_empty(node.lo, node.hi);
+    nodes_.push_back(node);
+    return static_cast<int>(nodes_.size()) - 1;
+}
+
+void CsgTree::evaluate(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& out) const {
+    const float pad = 2.0f * epsilon_ / std::max(glm::length(d), 1e-30f);
+    const LineQuery q{o, d, safe_reciprocal(d), tnear - pad, tfar + pad};
+    if (!worth_visiting(root_, q)) {
+        out.clear();
+        return;
+    }
+    evaluate_node(root_, q, out);
+}
+
+bool CsgTree::first_boundary(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& list,
+                             CsgBoundary& out) const {
+    evaluate(o, d, tnear, tfar, list);
+    return csg_first_boundary(list, tnear, tfar, out);
+}
+
+bool CsgTree::worth_visiting(int index, const LineQuery& q) const {
+    if (!use_boxes_) return true;
+    const Node& node = nodes_[static_cast<std::size_t>(index)];
+    return !node.empty_box && box_meets_range(node.lo, node.hi, q.o, q.inv_d, q.range_lo, q.range_hi);
+}
+
+void CsgTree::evaluate_node(int index, const LineQuery& q, CsgSegmentList& out) const {
+    using Kind = FlatCsgNode::Kind;
+    const Node& node = nodes_[static_cast<std::size_t>(index)];
+    if (node.kind == Kind::leaf) {
+        leaf_segments(node.leaf, q, out);
+        return;
+    }
+    // The children's boxes decide what is evaluated at all: an operand the line misses is
+    // empty, so a union is the other operand's list and a difference the first operand's.
+    const bool left_seen = worth_visiting(node.left, q), right_seen = worth_visiting(node.right, q);
+    const bool empty = node.kind == Kind::unite ? !left_seen && !right_seen
+                                                : !left_seen || (node.kind == Kind::intersect && !right_seen);
+    if (empty) {
+        out.clear();
+        return;
+    }
+    if (!right_seen || !left_seen) {  // a union or difference with one operand out of the way
+        evaluate_node(left_seen ? node.left : node.right, q, out);
+        return;
+    }
+    CsgSegmentList left;
+    evaluate_node(node.left, q, left);
+    if (left.empty() && node.kind != Kind::unite) {
+        out.clear();
+        return;
+    }
+    CsgSegmentList right;
+    evaluate_node(node.right, q, right);
+    switch (node.kind) {
+        case Kind::unite: csg_union(left, right, epsilon_, out); return;
+        case Kind::intersect: csg_intersection(left, right, epsilon_, out); return;
+        case Kind::subtract: csg_difference(left, right, epsilon_, out); return;
+        case Kind::leaf: return;
+    }
+}
+
+void CsgTree::leaf_segments(int leaf_index, const LineQuery& q, CsgSegmentList& out) const {
+    out.clear();
+    const CsgLeaf& leaf = leaves_[static_cast<std::size_t>(leaf_index)];
+    if (leaf.is_mesh) {
+        // The mesh is traced from where the line enters its box, so that its crossings can be
+        // paired from outside.
+        float t0 = -infinity, t1 = infinity;
+        if (!clip_line_to_box(leaf.lo, leaf.hi, q.o, q.d, t0, t1)) return;
+        mesh_leaf_segments(leaf, leaf_index, q.o, q.d, t0, t1, out);
+        return;
+    }
+    const glm::vec3 oo = glm::vec3(leaf.world_to_object * glm::vec4(q.o, 1.0f));
+    const glm::vec3 dd = glm::mat3(leaf.world_to_object) * q.d;
+    ShapeInterval interval;
+    if (!intersect_shape_interval(leaf.shape, oo, dd, interval)) return;
+    CsgSegment s;
+    s.enter = {interval.entry.t, interval.entry.normal, leaf.material, leaf_index, interval.entry.face, false};
+    s.leave = {interval.exit.t, interval.exit.normal, leaf.material, leaf_index, interval.exit.face, false};
+    s.medium = leaf.material;
+    out.push_back(s);
+}
+
+}  // namespace caustica
