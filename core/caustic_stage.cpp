@@ -77,9 +77,10 @@ void check_photon_memory(const RenderJob& job) {
 void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                          const std::atomic<bool>* cancel) {
     const Options& o = job.options;
-    // The roulette needs P(diffuse) + P(specular) <= 1 where a surface is specular (seed 1.1.1).
+    // The roulette needs P(diffuse) + P(specular) <= 1 where a surface is a mirror (seed 1.1.1).
+    // A transparent material's kd is its medium colour, not a reflectance: it is not counted.
     for (const MaterialDesc& m : job.scene->materials) {
-        if (!(m.reflective || m.refractive_index.has_value()) || m.air) continue;
+        if (!m.reflective || m.refractive_index.has_value() || m.air) continue;
         const double sum = (m.kd.x + m.kd.y + m.kd.z) / 3.0 + (m.ks.x + m.ks.y + m.ks.z) / 3.0;
         if (sum > 1.0 + 1e-9)
             throw InputError(m.where, "gr.material: mean(kd) + mean(ks) = " + std::to_string(sum) +

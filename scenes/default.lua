@@ -30,28 +30,32 @@ wall('left',    red,  -2.05, 0, 0, 0.05, 2.1, 2.1)
 wall('right',   green, 2.05, 0, 0, 0.05, 2.1, 2.1)
 
 glass_ball = gr.sphere('glass_ball')
-glass_ball:translate(-0.8, -1.3, 0.4)
+glass_ball:translate(-0.85, -1.298, 0.3)
 glass_ball:scale(0.7, 0.7, 0.7)
 glass_ball:set_material(glass)
 scene:add_child(glass_ball)
 
 mirror_ball = gr.sphere('mirror_ball')
-mirror_ball:translate(0.9, -1.4, -0.9)
+mirror_ball:translate(0.75, -1.4, -1.0)
 mirror_ball:scale(0.6, 0.6, 0.6)
 mirror_ball:set_material(mirror)
 scene:add_child(mirror_ball)
 
--- A metal ring: a short, wide cylinder shell (its inner wall focuses light into a cardioid).
-ring = gr.cylinder('ring')
-ring:translate(1.0, -1.85, 0.9)
-ring:scale(0.55, 0.15, 0.55)
+-- A metal ring: a cylinder minus a slightly thinner, taller one. Light falling on its inner
+-- wall is focused into a cardioid on the floor inside it.
+ring_outer = gr.cylinder('ring_outer')
+ring_outer:scale(0.62, 0.15, 0.62)
+ring_inner = gr.cylinder('ring_inner')
+ring_inner:scale(0.58, 0.2, 0.58)
+ring = gr.difference('ring', ring_outer, ring_inner)
+ring:translate(0.95, -1.848, 0.85)
 ring:set_material(gold)
 scene:add_child(ring)
 
 -- Caustics need a light with quadratic falloff (c2 > 0): photon energies follow it.
-light = gr.light({0.0, 1.8, 0.5}, {1.9, 1.9, 1.75}, {0.2, 0, 0.15})
+light = gr.light({-1.1, 0.5, 1.8}, {1.6, 1.6, 1.5}, {0.2, 0, 0.15})
 gr.option('--caustic-num-photons 3000000 --caustic-num-neighbours 100')
 
 gr.render(scene, 'default.png', 512, 512,
-          {0, 0, 7.5}, {0, 0, -1}, {0, 1, 0}, 40,
+          {0, 0.9, 7.5}, {0, -0.17, -1}, {0, 1, 0}, 40,
           {0.15, 0.15, 0.15}, {light})
