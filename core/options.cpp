@@ -128,7 +128,7 @@ const std::vector<OptionSpec>& option_table() {
         integer("seed", 0, "sampling", "base of the random streams", &Options::seed, 0,
                 std::numeric_limits<long long>::max()),
         integer("threads", 'j', "performance", "worker threads (0 = all cores)", &Options::threads, 0, 1024),
-        flag("disable-bv", 0, "performance", "no bounding volumes (for comparison; much slower)", &Options::disable_bv),
+        flag("disable-bv", 0, "performance", "no bounding volumes around analytic primitives: each ray tests them all (for comparison)", &Options::disable_bv),
         flag("disable-csg-bb", 0, "performance", "no bounding boxes around CSG subtrees (for comparison)",
              &Options::disable_csg_bb),
         integer("max-depth", 0, "optics", "recursion limit for reflected and refracted rays", &Options::max_depth, 0,

@@ -21,7 +21,7 @@ struct Options {
     bool debug = false;        ///< -d
     // feature switches
     bool disable_aa = false;
-    bool disable_bv = false;       ///< no bounding volumes (Embree always has a BVH; this builds it flat-as-possible)
+    bool disable_bv = false;       ///< analytic primitives without bounding volumes (each ray tests all)
     bool disable_csg_bb = false;
     bool draw_aa = false;          ///< mark supersampled pixels
     bool draw_caustic_map = false;

@@ -29,15 +29,25 @@ void check_device(RTCDevice device, const char* what) {
 }
 
 /// What the analytic user geometry's callbacks read.
+/// With `brute_force` (--disable-bv) the geometry is one primitive holding them all, bounded by
+/// their union, so every ray that reaches it tests every primitive: no bounding volumes.
 struct AnalyticGeometry {
     const RenderScene::AnalyticPrimitive* prims;
     const glm::vec3* lo;
     const glm::vec3* hi;
+    unsigned count = 0;
+    bool brute_force = false;
+
+    /// The primitives an Embree primitive stands for.
+    unsigned first(unsigned prim_id) const { return brute_force ? 0u : prim_id; }
+    unsigned last(unsigned prim_id) const { return brute_force ? count : prim_id + 1; }
 };
 
 void analytic_bounds(const RTCBoundsFunctionArguments* args) {
     const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
-    const glm::vec3 lo = geometry->lo[args->primID], hi = geometry->hi[args->primID];
+    glm::vec3 lo = geometry->lo[args->primID], hi = geometry->hi[args->primID];
+    if (geometry->brute_force)
+        for (unsigned i = 0; i < geometry->count; ++i) lo = glm::min(lo, geometry->lo[i]), hi = glm::max(hi, geometry->hi[i]);
     RTCBounds* b = args->bounds_o;
     b->lower_x = lo.x, b->lower_y = lo.y, b->lower_z = lo.z;
     b->upper_x = hi.x, b->upper_y = hi.y, b->upper_z = hi.z;
@@ -56,11 +66,12 @@ const SurfaceCrossing* nearest_crossing(const RenderScene::AnalyticPrimitive& pr
 
 void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
     const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
-    const RenderScene::AnalyticPrimitive& prim = geometry->prims[args->primID];
     const unsigned n = args->N;
     RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
     RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
-    for (unsigned i = 0; i < n; ++i) {
+    for (unsigned i = 0; i < n; ++i)
+      for (unsigned p = geometry->first(args->primID); p < geometry->last(args->primID); ++p) {
+        const RenderScene::AnalyticPrimitive& prim = geometry->prims[p];
         if (args->valid[i] != -1) continue;
         const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
         const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
@@ -75,19 +86,20 @@ void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
         RTCHitN_Ng_z(hit, n, i) = normal.z;
         RTCHitN_u(hit, n, i) = static_cast<float>(c->face);
         RTCHitN_v(hit, n, i) = 0.0f;
-        RTCHitN_primID(hit, n, i) = args->primID;
+        RTCHitN_primID(hit, n, i) = p;
         RTCHitN_geomID(hit, n, i) = args->geomID;
         for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
             RTCHitN_instID(hit, n, i, level) = args->context->instID[level];
-    }
+      }
 }
 
 void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
     const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
-    const RenderScene::AnalyticPrimitive& prim = geometry->prims[args->primID];
     const unsigned n = args->N;
-    for (unsigned i = 0; i < n; ++i) {
-        if (args->valid[i] != -1) continue;
+    for (unsigned i = 0; i < n; ++i)
+      for (unsigned p = geometry->first(args->primID); p < geometry->last(args->primID); ++p) {
+        const RenderScene::AnalyticPrimitive& prim = geometry->prims[p];
+        if (args->valid[i] != -1 || RTCRayN_tfar(args->ray, n, i) < 0.0f) continue;
         const glm::vec3 o(RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
                           RTCRayN_org_z(args->ray, n, i));
         const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
@@ -95,7 +107,7 @@ void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
         ShapeInterval interval;
         if (nearest_crossing(prim, o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), interval))
             RTCRayN_tfar(args->ray, n, i) = -ray_infinity;
-    }
+      }
 }
 
 void transformed_bounds(const Shape& shape, const glm::mat4& m, glm::vec3& lo, glm::vec3& hi) {
@@ -294,9 +306,10 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
     }
 
     if (!analytic_.empty()) {
-        holder->geometry = {analytic_.data(), holder->lo.data(), holder->hi.data()};
+        holder->geometry = {analytic_.data(), holder->lo.data(), holder->hi.data(),
+                            static_cast<unsigned>(analytic_.size()), !flat.bounding_volumes};
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-        rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(analytic_.size()));
+        rtcSetGeometryUserPrimitiveCount(g, flat.bounding_volumes ? static_cast<unsigned>(analytic_.size()) : 1u);
         rtcSetGeometryUserData(g, &holder->geometry);
         rtcSetGeometryBoundsFunction(g, analytic_bounds, nullptr);
         rtcSetGeometryIntersectFunction(g, analytic_intersect);
@@ -413,7 +426,12 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
         const glm::uvec3 tri = mesh.triangles[rh.hit.primID];
         const glm::vec3 v0 = mesh.positions[tri.x], v1 = mesh.positions[tri.y], v2 = mesh.positions[tri.z];
         // Our own winding rule (counter-clockwise = outward, as OBJ files are written), not Embree's.
-        hit.normal = glm::normalize(inst.normal_to_world * glm::cross(v1 - v0, v2 - v0));
+        const glm::vec3 n = inst.normal_to_world * glm::cross(v1 - v0, v2 - v0);
+        // A sliver whose cross product underflows has no direction: face the ray instead.
+        const float n2 = glm::dot(n, n);
+        hit.normal = n2 > 0.0f && std::isfinite(n2)
+                         ? n / std::sqrt(n2)
+                         : -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z));
         hit.material = inst.material;
         fill_mesh_surface(mesh, rh.hit.primID, rh.hit.u, rh.hit.v, inst.object_to_world, hit);
     }

@@ -61,7 +61,7 @@ std::uint64_t hash_vec(std::uint64_t h, const glm::dvec3& v) {
 
 std::uint64_t geometry_fingerprint(const RenderJob& job) {
     std::uint64_t h = hash_combine(0x6361757374696361ULL, static_cast<std::uint64_t>(job.root));
-    h = hash_combine(h, (job.options.a4 ? 1 : 0) + (job.options.disable_csg_bb ? 2 : 0));
+    h = hash_combine(h, (job.options.a4 ? 1 : 0) + (job.options.disable_csg_bb ? 2 : 0) + (job.options.disable_bv ? 4 : 0));
     const SceneDesc& scene = *job.scene;
     for (const NodeDesc& node : scene.nodes) {
         h = hash_combine(h, static_cast<std::uint64_t>(node.kind));

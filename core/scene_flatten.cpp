@@ -179,6 +179,7 @@ FlatScene flatten_scene(const RenderJob& job) {
     if (!job.scene) throw InputError("no scene to render");
     FlatScene flat = flatten_scene(*job.scene, job.root, job.options.a4);
     flat.csg_bounding_boxes = !job.options.disable_csg_bb;
+    flat.bounding_volumes = !job.options.disable_bv;
     return flat;
 }
 

@@ -46,6 +46,7 @@ struct FlatScene {
     std::vector<PlacedPrimitive> primitives;  ///< standalone primitives (not CSG operands)
     std::vector<FlatCsgObject> csg_objects;
     bool csg_bounding_boxes = true;           ///< test the boxes of CSG subtrees (off: --disable-csg-bb)
+    bool bounding_volumes = true;             ///< off (--disable-bv): analytic primitives tested one by one
     std::vector<std::string> warnings;
 };
 
@@ -56,7 +57,7 @@ glm::dmat4 compose_transforms(const std::vector<TransformOp>& ops, bool course_c
 /// non-finite world transform, a cycle, or a CSG node without two operands.
 FlatScene flatten_scene(const SceneDesc& scene, int root, bool course_convention);
 
-/// Flattens a render job with its options (the convention, and --disable-csg-bb).
+/// Flattens a render job with its options (the convention, --disable-csg-bb, --disable-bv).
 FlatScene flatten_scene(const RenderJob& job);
 
 }  // namespace caustica

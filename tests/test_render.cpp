@@ -201,3 +201,19 @@ TEST(Transforms, SingularWorldTransformNamesTheNode) {
         EXPECT_EQ(std::string(e.what()), "scene.lua:7: node 'node1': its world transform is singular or not finite");
     }
 }
+
+TEST(Render, DisableBvGivesTheSameImage) {
+    JobBuilder b(40, 30);
+    const int m = b.material({0.7, 0.3, 0.2}, {0.4, 0.4, 0.4}, 30, true);
+    for (int i = 0; i < 12; ++i) {
+        const int s = b.add(i % 3 == 0 ? NodeKind::cube : i % 3 == 1 ? NodeKind::sphere : NodeKind::cone, m);
+        b.translate(s, {i % 4 - 1.5, i / 4 - 1.0, -0.3 * i});
+        b.scale(s, {0.35, 0.35, 0.35});
+    }
+    b.light({3, 4, 5}, {1, 1, 1});
+    b.camera({0, 0, 6}, {0, 0, -1}, 50);
+    const Image with_bv = caustica::testing::render(b.build());
+    b.job.options.disable_bv = true;
+    const Image without = caustica::testing::render(b.build());
+    for (std::size_t i = 0; i < with_bv.pixels.size(); ++i) ASSERT_EQ(with_bv.pixels[i], without.pixels[i]) << i;
+}
