@@ -38,9 +38,44 @@ glm::vec3 Integrator::trace_camera_ray(const Ray& ray, RandomStream& random, Ray
 }
 
 glm::vec3 Integrator::shade_primary_hit(const Ray& ray, const SurfaceHit& hit, RandomStream& random,
-                                        RayCounters& counters) const {
+                                        RayCounters& counters, const float* visibility) const {
     ++counters.primary;
-    return shade(ray, hit, PathState{}, random, counters);
+    PathState path;
+    path.known_visibility = visibility;
+    return shade(ray, hit, path, random, counters);
+}
+
+void Integrator::primary_visibility8(const Ray* rays, const SurfaceHit* hits, const bool* found,
+                                     float (*visibility)[packet_lights], RayCounters& counters) const {
+    for (int lane = 0; lane < 8; ++lane)
+        for (int l = 0; l < packet_lights; ++l) visibility[lane][l] = -1.0f;
+    const float eps = setup_.scene->epsilon();
+    const int lights = std::min<int>(packet_lights, static_cast<int>(setup_.lights.size()));
+    for (int l = 0; l < lights; ++l) {
+        const Light& light = setup_.lights[l];
+        if (light.radius > 0.0f && setup_.soft_shadows) continue;  // sampled per hit
+        Ray shadow[8];
+        int valid[8];
+        bool blocked[8];
+        int count = 0;
+        for (int lane = 0; lane < 8; ++lane) {
+            valid[lane] = 0;
+            if (!found[lane]) continue;
+            const SurfaceHit& hit = hits[lane];
+            const glm::vec3 to_light = light.position - hit.position;
+            const float distance = glm::length(to_light);
+            const glm::vec3 n = glm::dot(hit.normal, rays[lane].direction) < 0.0f ? hit.normal : -hit.normal;
+            if (!(distance > 0.0f) || glm::dot(n, to_light) <= 0.0f) continue;
+            shadow[lane] = Ray{hit.position, to_light / distance, eps, distance - eps};
+            valid[lane] = 1;
+            ++count;
+        }
+        if (count == 0) continue;
+        setup_.scene->occluded8(shadow, valid, blocked);
+        counters.shadow += static_cast<std::uint64_t>(count);
+        for (int lane = 0; lane < 8; ++lane)
+            if (valid[lane]) visibility[lane][l] = blocked[lane] ? 0.0f : 1.0f;
+    }
 }
 
 float Integrator::medium_index(int material) const {
@@ -92,11 +127,12 @@ float Integrator::light_visibility(const Light& light, const glm::vec3& point, R
 }
 
 glm::vec3 Integrator::direct_light(const Material& m, const glm::vec3& kd, const SurfaceHit& hit,
-                                   const glm::vec3& n, const glm::vec3& to_eye, bool diffuse, RandomStream& random,
-                                   RayCounters& counters) const {
+                                   const glm::vec3& n, const glm::vec3& to_eye, bool diffuse,
+                                   const float* known_visibility, RandomStream& random, RayCounters& counters) const {
     const bool highlight = m.ks.x > 0.0f || m.ks.y > 0.0f || m.ks.z > 0.0f;
     glm::vec3 colour(0.0f);
-    for (const Light& light : setup_.lights) {
+    for (std::size_t l = 0; l < setup_.lights.size(); ++l) {
+        const Light& light = setup_.lights[l];
         glm::vec3 to_light = light.position - hit.position;
         const float distance = glm::length(to_light);
         if (!(distance > 0.0f)) continue;
@@ -109,7 +145,8 @@ glm::vec3 Integrator::direct_light(const Material& m, const glm::vec3& kd, const
             if (r_dot_v > 0.0f) lit += m.ks * std::pow(r_dot_v, m.shininess);
         }
         if (lit == glm::vec3(0.0f)) continue;
-        const float visibility = light_visibility(light, hit.position, random, counters);
+        const float known = known_visibility && l < packet_lights ? known_visibility[l] : -1.0f;
+        const float visibility = known >= 0.0f ? known : light_visibility(light, hit.position, random, counters);
         if (visibility > 0.0f) colour += visibility * light.colour * lit * light.attenuation(distance);
     }
     return colour;
@@ -130,18 +167,19 @@ glm::vec3 Integrator::shade(const Ray& ray, const SurfaceHit& hit, const PathSta
         // Transparent surfaces: their kd is the medium's colour, not a diffuse reflectance.
         glm::vec3 colour = m.air || setup_.draw_caustics_only
                                ? glm::vec3(0.0f)
-                               : direct_light(m, kd, hit, n, to_eye, false, random, counters);
+                               : direct_light(m, kd, hit, n, to_eye, false, path.known_visibility, random, counters);
         return colour + dielectric(ray, hit, m, n, path, random, counters);
     }
     glm::vec3 colour = setup_.draw_caustics_only
                            ? glm::vec3(0.0f)
-                           : setup_.ambient * kd + direct_light(m, kd, hit, n, to_eye, true, random, counters);
+                           : setup_.ambient * kd + direct_light(m, kd, hit, n, to_eye, true, path.known_visibility, random, counters);
     if (setup_.caustic_map && kd != glm::vec3(0.0f)) colour += caustic_radiance(hit, n, kd, counters);
     if (setup_.draw_caustic_map || !setup_.projection_maps.empty())
         colour = debug_overlays(hit, glm::length(hit.position - ray.origin), colour);
     if (m.reflective && path.depth < setup_.max_depth) {
         PathState next = path;
         next.depth += 1;
+        next.known_visibility = nullptr;
         next.weight = path.weight * m.ks;
         if (max_component(next.weight) >= setup_.min_weight) {
             ++counters.reflected;
@@ -199,6 +237,7 @@ glm::vec3 Integrator::dielectric(const Ray& ray, const SurfaceHit& hit, const Ma
     glm::vec3 colour(0.0f);
     PathState next = path;
     next.depth += 1;
+    next.known_visibility = nullptr;
     if (reflectance > 0.0f) {
         next.weight = path.weight * specular * reflectance;
         if (max_component(next.weight) >= setup_.min_weight) {

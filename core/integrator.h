@@ -50,9 +50,19 @@ public:
     /// Colour seen along a camera ray.
     glm::vec3 trace_camera_ray(const Ray& ray, RandomStream& random, RayCounters& counters) const;
 
-    /// Colour at a surface already found by a primary ray (used by packet tracing).
-    glm::vec3 shade_primary_hit(const Ray& ray, const SurfaceHit& hit, RandomStream& random,
-                                RayCounters& counters) const;
+    /// Lights whose shadow rays primary packets trace together (the rest are traced one by one).
+    static constexpr int packet_lights = 8;
+
+    /// Traces, as 8-ray packets, the shadow rays of 8 primary hits towards each point light (up to
+    /// packet_lights of them): visibility[lane][light] becomes 0 or 1, or stays -1 where no ray
+    /// was needed (no hit, light behind the surface, spherical light).
+    void primary_visibility8(const Ray* rays, const SurfaceHit* hits, const bool* found,
+                             float (*visibility)[packet_lights], RayCounters& counters) const;
+
+    /// Colour at a surface already found by a primary ray (used by packet tracing), with the
+    /// light visibility primary_visibility8 found (or null).
+    glm::vec3 shade_primary_hit(const Ray& ray, const SurfaceHit& hit, RandomStream& random, RayCounters& counters,
+                                const float* visibility = nullptr) const;
 
     /// Packet intersection of primary rays against the scene.
     void scene_intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const {
@@ -72,14 +82,15 @@ private:
         int depth = 0;
         glm::vec3 weight{1.0f};
         MediumStack media;
+        const float* known_visibility = nullptr;  ///< per light, from packets; primary hits only
     };
 
     glm::vec3 trace(const Ray& ray, const PathState& path, RandomStream& random, RayCounters& counters) const;
     glm::vec3 shade(const Ray& ray, const SurfaceHit& hit, const PathState& path, RandomStream& random,
                     RayCounters& counters) const;
     glm::vec3 direct_light(const Material& m, const glm::vec3& kd, const SurfaceHit& hit, const glm::vec3& n,
-                           const glm::vec3& to_eye, bool diffuse, RandomStream& random,
-                           RayCounters& counters) const;
+                           const glm::vec3& to_eye, bool diffuse, const float* known_visibility,
+                           RandomStream& random, RayCounters& counters) const;
     glm::vec3 dielectric(const Ray& ray, const SurfaceHit& hit, const Material& m, const glm::vec3& n,
                          const PathState& path, RandomStream& random, RayCounters& counters) const;
     float medium_index(int material) const;

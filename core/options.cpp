@@ -106,6 +106,46 @@ OptionSpec refused(std::string name, const char* value_name, const char* help) {
     return s;
 }
 
+/// A --quality preset: option tokens chosen from bench/trade's error/time curves (docs/ACCURACY.md).
+/// The gather distance returns to its default, 0.15 x unit distance, so it follows the scene's unit.
+struct QualityPreset {
+    const char* name;
+    const char* tokens;
+};
+
+constexpr QualityPreset quality_presets[] = {
+    {"draft", "--caustic-num-photons 100000 --caustic-num-neighbours 25 --aa-grid 1 --shadow-grid 2"},
+    {"preview", "--caustic-num-photons 1000000 --caustic-num-neighbours 100 --aa-grid 2 --aa-threshold 0.5 "
+                "--shadow-grid 3"},
+    {"final", "--caustic-num-photons 10000000 --caustic-num-neighbours 200 --aa-grid 4 --aa-threshold 0.25 "
+              "--shadow-grid 6"},
+};
+
+/// Expands a preset in place: its tokens are applied where --quality stands, so later options win.
+void apply_quality_preset(Options& o, const std::string& name) {
+    for (const QualityPreset& preset : quality_presets)
+        if (name == preset.name) {
+            o.caustic_max_dist = -1.0;
+            apply_option_tokens(o, split_option_string(preset.tokens));
+            return;
+        }
+    throw InputError("--quality: expected draft, preview or final, got '" + name + "'");
+}
+
+/// The preset whose every value `o` has, or "none".
+std::string matching_quality_preset(const Options& o) {
+    for (const QualityPreset& preset : quality_presets) {
+        Options expanded = o;
+        apply_quality_preset(expanded, preset.name);
+        if (expanded.caustic_num_photons == o.caustic_num_photons &&
+            expanded.caustic_num_neighbours == o.caustic_num_neighbours &&
+            expanded.caustic_max_dist == o.caustic_max_dist && expanded.aa_grid == o.aa_grid &&
+            expanded.aa_threshold == o.aa_threshold && expanded.shadow_grid == o.shadow_grid)
+            return preset.name;
+    }
+    return "none";
+}
+
 const std::vector<OptionSpec>& option_table() {
     constexpr long long int_max = std::numeric_limits<int>::max();
     constexpr double huge = 1e30;
@@ -117,6 +157,9 @@ const std::vector<OptionSpec>& option_table() {
         flag("stats", 'S', "reporting", "print statistics (rays by kind, intersections, stage times)", &Options::stats),
         flag("verbose", 'v', "reporting", "print what is being done", &Options::verbose),
         flag("debug", 'd', "reporting", "print debugging details", &Options::debug),
+        {"quality", 0, "draft|preview|final", "sampling",
+         "preset of photons, N, max distance, anti-aliasing, shadow grid (docs/ACCURACY.md); later options win",
+         apply_quality_preset, matching_quality_preset},
         flag("disable-aa", 0, "sampling", "one sample per pixel, no adaptive anti-aliasing", &Options::disable_aa),
         integer("aa-grid", 0, "sampling", "adaptive anti-aliasing: N x N samples in an edge pixel", &Options::aa_grid, 1,
                 16),

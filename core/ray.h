@@ -28,7 +28,8 @@ struct SurfaceHit {
     /// `outside` is in front of it, or -1 when unknown (the ray's medium stack decides).
     int medium_inside = -1;
     int medium_outside = -1;
-    // Surface frame for textures and bump maps.
+    // Surface frame for textures and bump maps: object_position, uv, dpdu and dpdv are filled only
+    // when the scene has a textured or bump-mapped material (they cost trigonometry per hit).
     int face = 0;                           ///< face code of analytic shapes (see SurfaceCrossing)
     int shape_kind = -1;                    ///< ShapeKind of an analytic shape, -1 for a mesh
     glm::vec3 object_position{0.0f};        ///< hit point in the primitive's object space

@@ -56,9 +56,13 @@ void analytic_bounds(const RTCBoundsFunctionArguments* args) {
 /// The crossing of a primitive nearest the ray start inside [tnear, tfar], if any.
 const SurfaceCrossing* nearest_crossing(const RenderScene::AnalyticPrimitive& prim, const glm::vec3& o,
                                         const glm::vec3& d, float tnear, float tfar, ShapeInterval& interval) {
-    const glm::vec3 oo = glm::vec3(prim.world_to_object * glm::vec4(o, 1.0f));
-    const glm::vec3 dd = glm::mat3(prim.world_to_object) * d;
-    if (!intersect_shape_interval(prim.shape, oo, dd, interval)) return nullptr;
+    if (prim.world_space) {
+        if (!intersect_shape_interval(prim.shape, o, d, interval)) return nullptr;
+    } else {
+        const glm::vec3 oo = glm::vec3(prim.world_to_object * glm::vec4(o, 1.0f));
+        const glm::vec3 dd = glm::mat3(prim.world_to_object) * d;
+        if (!intersect_shape_interval(prim.shape, oo, dd, interval)) return nullptr;
+    }
     if (interval.entry.t >= tnear && interval.entry.t <= tfar) return &interval.entry;
     if (interval.exit.t >= tnear && interval.exit.t <= tfar) return &interval.exit;
     return nullptr;
@@ -108,6 +112,29 @@ void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
         if (nearest_crossing(prim, o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), interval))
             RTCRayN_tfar(args->ray, n, i) = -ray_infinity;
       }
+}
+
+/// Folds a transform made of a translation and a positive scale into a sphere (uniform scale) or
+/// a box, so that the primitive is intersected in world space without matrix products.
+bool fold_into_world_space(PlacedPrimitive& p) {
+    const glm::dmat4& m = p.object_to_world;
+    const glm::dvec3 scale(m[0][0], m[1][1], m[2][2]);
+    const bool axis_aligned = m[0][1] == 0.0 && m[0][2] == 0.0 && m[1][0] == 0.0 && m[1][2] == 0.0 &&
+                              m[2][0] == 0.0 && m[2][1] == 0.0 && m[0][3] == 0.0 && m[1][3] == 0.0 &&
+                              m[2][3] == 0.0 && m[3][3] == 1.0 && scale.x > 0.0 && scale.y > 0.0 && scale.z > 0.0;
+    if (p.is_mesh || !axis_aligned) return false;
+    const glm::dvec3 offset(m[3]);
+    if (p.shape.kind == ShapeKind::box) {
+        p.shape.a = glm::vec3(glm::dvec3(p.shape.a) * scale + offset);
+        p.shape.b = glm::vec3(glm::dvec3(p.shape.b) * scale + offset);
+    } else if (p.shape.kind == ShapeKind::sphere && scale.x == scale.y && scale.y == scale.z) {
+        p.shape.a = glm::vec3(glm::dvec3(p.shape.a) * scale + offset);
+        p.shape.b = glm::vec3(static_cast<float>(p.shape.b.x * scale.x));
+    } else {
+        return false;
+    }
+    p.object_to_world = glm::dmat4(1.0);
+    return true;
 }
 
 void transformed_bounds(const Shape& shape, const glm::mat4& m, glm::vec3& lo, glm::vec3& hi) {
@@ -262,6 +289,7 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
     RTCDevice device = embree_device();
     for (const MaterialDesc& m : desc.materials) materials_.push_back(Material::from_desc(m));
     default_material_ = static_cast<int>(materials_.size());
+    for (const MaterialDesc& m : desc.materials) surface_frames_ |= m.texture >= 0 || m.bumpmap >= 0;
     Material grey;
     grey.kd = glm::vec3(0.6f);
     materials_.push_back(grey);
@@ -280,13 +308,14 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
         int material;
     };
     std::vector<PendingInstance> pending;
-    for (const PlacedPrimitive& p : flat.primitives) {
+    for (PlacedPrimitive p : flat.primitives) {
+        const bool world_space = fold_into_world_space(p);
         const glm::mat4 to_world = glm::mat4(p.object_to_world);
         const glm::mat3 normal_to_world = glm::mat3(glm::transpose(glm::inverse(p.object_to_world)));
         const int material = p.material >= 0 ? p.material : default_material_;
         if (!p.is_mesh) {
             analytic_.push_back({p.shape, glm::mat4(glm::inverse(p.object_to_world)), glm::mat3(to_world), normal_to_world,
-                                 material});
+                                 material, world_space});
             glm::vec3 lo, hi;
             transformed_bounds(p.shape, to_world, lo, hi);
             holder->lo.push_back(lo);
@@ -414,12 +443,14 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
         hit.face = static_cast<int>(rh.hit.u);
         hit.material = prim.material;
         hit.shape_kind = static_cast<int>(prim.shape.kind);
-        hit.object_position = glm::vec3(prim.world_to_object * glm::vec4(hit.position, 1.0f));
-        hit.uv = shape_uv(prim.shape, hit.object_position, hit.face);
-        glm::vec3 dpdu, dpdv;
-        shape_tangents(prim.shape, hit.object_position, hit.face, dpdu, dpdv);
-        hit.dpdu = prim.object_to_world * dpdu;
-        hit.dpdv = prim.object_to_world * dpdv;
+        if (surface_frames_) {  // only textures and bump maps need these: skip the trigonometry
+            hit.object_position = glm::vec3(prim.world_to_object * glm::vec4(hit.position, 1.0f));
+            hit.uv = shape_uv(prim.shape, hit.object_position, hit.face);
+            glm::vec3 dpdu, dpdv;
+            shape_tangents(prim.shape, hit.object_position, hit.face, dpdu, dpdv);
+            hit.dpdu = prim.object_to_world * dpdu;
+            hit.dpdv = prim.object_to_world * dpdv;
+        }
     } else {
         const MeshInstance& inst = instances_[instance - first_instance_id_];
         const MeshData& mesh = *meshes_[inst.mesh];
@@ -433,7 +464,7 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
                          ? n / std::sqrt(n2)
                          : -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z));
         hit.material = inst.material;
-        fill_mesh_surface(mesh, rh.hit.primID, rh.hit.u, rh.hit.v, inst.object_to_world, hit);
+        if (surface_frames_) fill_mesh_surface(mesh, rh.hit.primID, rh.hit.u, rh.hit.v, inst.object_to_world, hit);
     }
     hit.medium_inside = hit.material;
     hit.medium_outside = -1;
@@ -450,6 +481,9 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
     hit.material = record.material;
     hit.medium_inside = record.medium_inside;
     hit.medium_outside = record.medium_outside;
+    hit.face = record.face;
+    hit.shape_kind = leaf.is_mesh ? -1 : static_cast<int>(leaf.shape.kind);
+    if (!surface_frames_) return;
     const glm::vec3 object_position = glm::vec3(leaf.world_to_object * glm::vec4(hit.position, 1.0f));
     if (leaf.is_mesh) {
         const unsigned triangle = static_cast<unsigned>(record.face);
@@ -459,8 +493,6 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
         fill_mesh_surface(*leaf.mesh, triangle, b.x, b.y, leaf.object_to_world, hit);
         return;
     }
-    hit.face = record.face;
-    hit.shape_kind = static_cast<int>(leaf.shape.kind);
     hit.object_position = object_position;
     hit.uv = shape_uv(leaf.shape, object_position, hit.face);
     glm::vec3 dpdu, dpdv;
@@ -488,6 +520,27 @@ bool RenderScene::occluded(const Ray& ray) const {
     RTCRay r = to_embree(ray);
     rtcOccluded1(scene_, &context, &r);
     return r.tfar < 0.0f;
+}
+
+void RenderScene::occluded8(const Ray* rays, const int* valid, bool* blocked) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    alignas(32) RTCRay8 packet;
+    alignas(32) int mask[8];
+    for (int i = 0; i < 8; ++i) {
+        mask[i] = valid[i] ? -1 : 0;
+        const Ray& r = valid[i] ? rays[i] : rays[0];
+        packet.org_x[i] = r.origin.x, packet.org_y[i] = r.origin.y, packet.org_z[i] = r.origin.z;
+        packet.dir_x[i] = r.direction.x, packet.dir_y[i] = r.direction.y, packet.dir_z[i] = r.direction.z;
+        packet.tnear[i] = r.tmin;
+        packet.tfar[i] = r.tmax;
+        packet.mask[i] = 0xffffffffu;
+        packet.flags[i] = 0;
+        packet.time[i] = 0.0f;
+        packet.id[i] = static_cast<unsigned>(i);
+    }
+    rtcOccluded8(mask, scene_, &context, &packet);
+    for (int i = 0; i < 8; ++i) blocked[i] = valid[i] && packet.tfar[i] < 0.0f;
 }
 
 void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const {

@@ -43,6 +43,9 @@ public:
     /// Whether anything blocks the ray within [tmin, tmax].
     bool occluded(const Ray& ray) const;
 
+    /// Occlusion of up to 8 rays as one packet; `valid[i]` selects lanes, `blocked[i]` the answers.
+    void occluded8(const Ray* rays, const int* valid, bool* blocked) const;
+
     /// Traces up to 8 rays as one packet (primary rays); `valid[i]` selects lanes.
     void intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const;
 
@@ -66,6 +69,7 @@ public:
         glm::mat3 object_to_world;  ///< linear part, for tangents
         glm::mat3 normal_to_world;
         int material;
+        bool world_space;  ///< the transform was folded into the shape: intersect without matrices
     };
     /// Per-mesh-instance data for shading.
     struct MeshInstance {
@@ -103,6 +107,7 @@ private:
     int default_material_ = 0;
     glm::vec3 lo_{0.0f}, hi_{0.0f};
     float epsilon_ = 1e-4f;
+    bool surface_frames_ = false;  // uv and tangents at hits: only when a material has a texture or bump map
     SceneBuildInfo info_;
 };
 

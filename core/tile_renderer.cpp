@@ -56,10 +56,12 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
                 rays[i] = context.camera->generate(static_cast<float>(x + i) + 0.5f, static_cast<float>(y) + 0.5f);
             }
             context.integrator->scene_intersect8(rays, valid, hits, found);
+            float visibility[8][Integrator::packet_lights];
+            context.integrator->primary_visibility8(rays, hits, found, visibility, counters);
             for (int i = 0; i < 8 && valid[i]; ++i) {
                 // One stream per pixel and pass: the result never depends on which thread runs the tile.
                 RandomStream random(context.seed, static_cast<std::uint64_t>(y) * out.width + x + i, 0);
-                out.at(x + i, y) = found[i] ? context.integrator->shade_primary_hit(rays[i], hits[i], random, counters)
+                out.at(x + i, y) = found[i] ? context.integrator->shade_primary_hit(rays[i], hits[i], random, counters, visibility[i])
                                             : context.integrator->background(rays[i].direction);
                 if (!found[i]) ++counters.primary;
                 ++counters.samples;

@@ -505,6 +505,12 @@ TEST(CsgScene, MeshOperandSubtractedFromASphere) {
     b.scene->nodes[box].mesh = 0;
     b.translate(box, {1, 0, 0});  // x in [0.5, 1.5]: bites into the ball
     csg(b, NodeKind::csg_difference, ball, box);
+    // Surface frames (object position, uv, tangents) are filled only in scenes with textures.
+    TextureDesc checker;
+    checker.source = "greencheck";
+    checker.procedural = true;
+    b.scene->textures.push_back(checker);
+    b.scene->materials[green].texture = 0;
     const RenderScene scene(*b.scene, flatten_scene(*b.scene, 0, false));
     // Along the x axis the ball's surface at x = 1 is gone: the cube's face at x = 0.5, flipped.
     SurfaceHit hit = trace(scene, {5, 0.1f, 0.05f}, {-1, 0, 0});
