@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cstring>
 #include <random>
-#include <unistd.h>
 
 namespace caustica {
 namespace {
@@ -60,20 +59,6 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
     return h | 1;  // never 0, which means "nothing built"
 }
 
-void check_photon_memory(const RenderJob& job) {
-    const long long photons = job.options.caustic_num_photons;
-    const double needed = photon_memory_bound(photons, job.lights.size());
-    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-    if (physical > 0.0 && needed > 0.6 * physical) {
-        char message[256];
-        std::snprintf(message, sizeof message,
-                      "--caustic-num-photons %lld: %zu light(s) would need up to %.1f GiB for the photon map, "
-                      "more than this machine can spare (%.1f GiB of memory)",
-                      photons, job.lights.size(), needed / (1 << 30), physical / (1 << 30));
-        throw InputError(message);
-    }
-}
-
 void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                          const std::atomic<bool>* cancel) {
     const Options& o = job.options;
@@ -86,7 +71,6 @@ void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const Re
             throw InputError(m.where, "gr.material: mean(kd) + mean(ks) = " + std::to_string(sum) +
                                           " exceeds 1 on a specular material: photons would gain energy");
     }
-    check_photon_memory(job);
     stage = CausticStage{};
     stage.key = caustic_fingerprint(job, 0);
     const std::vector<Light> lights = job_lights(job);

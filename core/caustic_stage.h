@@ -26,9 +26,6 @@ bool caustics_needed(const RenderJob& job);
 /// Fingerprint of everything the photon map depends on (not N, the max distance or the camera).
 std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_key);
 
-/// Refuses photon counts whose map could not fit in memory, before anything is allocated.
-void check_photon_memory(const RenderJob& job);
-
 /// The built stage.
 struct CausticStage {
     std::uint64_t key = 0;                   ///< caustic_fingerprint it was built for (0 = none)

@@ -3,12 +3,15 @@
 #include "core/medium_stack.h"
 #include "core/optics.h"
 #include "core/random.h"
+#include "core/source_location.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <unistd.h>
 
 namespace caustica {
 namespace {
@@ -102,10 +105,23 @@ RouletteOdds roulette_odds(const Material& m) {
     return odds;
 }
 
-double photon_memory_bound(long long photons, std::size_t lights) {
-    // Stored photon, tree position, order entry and node share, plus the per-block buffers' slack.
+double photon_memory_bound(double photons) {
+    // Stored photon twice (block buffers, then the map), its tree position, order entry and node share.
     constexpr double bytes_per_photon = sizeof(Photon) * 2 + sizeof(glm::vec3) + 4 + 16.0 / 6.0;
-    return static_cast<double>(photons) * static_cast<double>(lights) * bytes_per_photon;
+    return photons * bytes_per_photon;
+}
+
+void check_photon_memory(double photons, long long requested, double budget_bytes) {
+    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    const double budget = budget_bytes > 0.0 ? budget_bytes : 0.6 * physical;
+    const double needed = photon_memory_bound(photons);
+    if (needed <= budget) return;
+    char message[320];
+    std::snprintf(message, sizeof message,
+                  "--caustic-num-photons %lld: the %.3g photons the projection maps let through would need up to "
+                  "%.1f GiB for the photon map, more than the %.1f GiB this machine can spare",
+                  requested, photons, needed / (1 << 30), budget / (1 << 30));
+    throw InputError(message);
 }
 
 PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vector<Light>& lights,
@@ -114,6 +130,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
     result.maps.resize(lights.size());
     result.lights.resize(lights.size());
     const long long count = settings.photons_per_light;
+    double expected_photons = 0.0;  // over all lights: what the maps let through, at most stored
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const Light& light = lights[l];
         LightPhotonReport& report = result.lights[l];
@@ -143,6 +160,9 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         }
         report.map_seconds = seconds_since(t_map);
         const ProjectionMap* map = report.projection_map_used ? &result.maps[l] : nullptr;
+        // Refuse before anything is allocated for photons; margin for the map's padding.
+        expected_photons += static_cast<double>(count) * (map ? std::min(1.0, 1.1 * report.occupied_fraction) : 1.0);
+        check_photon_memory(expected_photons, count, settings.memory_budget_bytes);
         const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
         const auto t0 = std::chrono::steady_clock::now();
         const long long blocks = (count + block_size - 1) / block_size;
@@ -153,20 +173,31 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         tbb::parallel_for(tbb::blocked_range<long long>(0, blocks, 1), [&](const tbb::blocked_range<long long>& r) {
             for (long long b = r.begin(); b != r.end(); ++b) {
                 if (cancel && cancel->load(std::memory_order_relaxed)) return;
-                const long long end = std::min(count, (b + 1) * block_size);
-                for (long long i = b * block_size; i < end; ++i) {
-                    RandomStream random(settings.seed, (static_cast<std::uint64_t>(l) << 40) ^ static_cast<std::uint64_t>(i), 3);
+                const long long begin = b * block_size, end = std::min(count, (b + 1) * block_size);
+                const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;
+                // Low-discrepancy directions run through the map's rows in order of i (u is
+                // monotonic in i): a block whose rows are all empty is skipped at once.
+                auto u_of = [&](long long i) {
+                    const double u = (static_cast<double>(i) + 0.5) / static_cast<double>(count) + rotate_u;
+                    return u - std::floor(u);
+                };
+                if (map && low_discrepancy &&
+                    !map->any_occupied_between(u_of(begin), u_of(begin) + static_cast<double>(end - begin) / count))
+                    continue;
+                for (long long i = begin; i < end; ++i) {
                     float u, v;
-                    if (settings.emission == PhotonEmission::low_discrepancy) {
-                        u = (static_cast<float>(i) + 0.5f) / static_cast<float>(count) + rotate_u;
+                    if (low_discrepancy) {
+                        u = static_cast<float>(u_of(i));
                         v = radical_inverse2(static_cast<std::uint32_t>(i)) + rotate_v;
-                        u -= std::floor(u);
                         v -= std::floor(v);
-                    } else {
+                        if (map && !map->occupied_uv(u, v)) continue;
+                    }
+                    RandomStream random(settings.seed, (static_cast<std::uint64_t>(l) << 40) ^ static_cast<std::uint64_t>(i), 3);
+                    if (!low_discrepancy) {
                         u = random.uniform();
                         v = random.uniform();
                     }
-                    if (map && !map->occupied_uv(u, v)) continue;
+                    if (map && !low_discrepancy && !map->occupied_uv(u, v)) continue;
                     const glm::vec3 direction = sphere_direction(u, v);
                     ++traced[b];
                     glm::vec3 origin = light.position;

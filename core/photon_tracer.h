@@ -31,6 +31,7 @@ struct PhotonPassSettings {
     PhotonEmission emission = PhotonEmission::low_discrepancy;
     std::uint64_t seed = 0;
     int max_depth = 8;  ///< specular interactions before a photon is dropped
+    double memory_budget_bytes = 0.0;  ///< refuse passes whose photons could exceed this (0 = 60% of RAM)
 };
 
 /// What happened for one light.
@@ -63,12 +64,17 @@ struct RouletteOdds {
 };
 RouletteOdds roulette_odds(const Material& m);
 
-/// Bytes the pass may need at most for `photons` per light and `lights` lights.
-double photon_memory_bound(long long photons, std::size_t lights);
+/// Bytes a photon map of `photons` stored photons may need at most (photons, tree, build buffers).
+double photon_memory_bound(double photons);
+
+/// Throws InputError when `photons` stored photons could not fit in `budget_bytes` (0 = 60% of
+/// the machine's memory). Called before anything is allocated for them.
+void check_photon_memory(double photons, long long requested, double budget_bytes);
 
 /// Shoots the caustic photons of every light in parallel. Each photon has its own random stream
 /// keyed by (seed, light, photon index), so the result is the same for any thread count.
-/// Stops early (returning what it has) when `cancel` becomes true.
+/// Stops early (returning what it has) when `cancel` becomes true. Throws InputError, before
+/// shooting, when the photons the maps let through could not fit in memory.
 PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vector<Light>& lights,
                                        const PhotonPassSettings& settings, const std::atomic<bool>* cancel);
 

@@ -14,6 +14,7 @@ constexpr double pi = 3.14159265358979323846;
 ProjectionMap::ProjectionMap(int granularity)
     : rows_(granularity), columns_(2 * granularity), cells_(static_cast<std::size_t>(rows_) * columns_, 0) {
     row_bounds_.resize(static_cast<std::size_t>(rows_));
+    row_count_.assign(static_cast<std::size_t>(rows_), 0);
     for (int row = 0; row < rows_; ++row) row_bounds_[row] = static_cast<float>(0.5 * (1.0 - std::cos(row * pi / rows_)));
 }
 
@@ -60,6 +61,21 @@ void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light) {
                 for (int dc = -1; dc <= 1; ++dc) set_cell(r, (column + dc + columns_) % columns_, true);
             }
         }
+}
+
+bool ProjectionMap::any_occupied_between(double u0, double u1) const {
+    if (u1 - u0 >= 1.0) u0 = 0.0, u1 = 1.0;
+    auto row_of = [&](double u) {
+        const auto r = std::upper_bound(row_bounds_.begin(), row_bounds_.end(), static_cast<float>(u)) - row_bounds_.begin() - 1;
+        return std::clamp(static_cast<int>(r), 0, rows_ - 1);
+    };
+    auto any_rows = [&](double a, double b) {
+        for (int r = row_of(a), last = row_of(b); r <= last; ++r)
+            if (row_count_[r] > 0) return true;
+        return false;
+    };
+    if (u1 <= 1.0) return any_rows(u0, u1);
+    return any_rows(u0, 1.0) || any_rows(0.0, u1 - 1.0);
 }
 
 double ProjectionMap::occupied_fraction() const {

@@ -34,6 +34,9 @@ public:
         return cells_[static_cast<std::size_t>(std::clamp(row, 0, rows_ - 1)) * columns_ + column] != 0;
     }
 
+    /// Whether any cell is set in the rows that u in [u0, u1] covers (u1 may exceed 1: wraps).
+    bool any_occupied_between(double u0, double u1) const;
+
     /// Occupied solid angle over 4 pi, with each cell weighted by its true (non-uniform) area.
     double occupied_fraction() const;
 
@@ -47,13 +50,17 @@ public:
     int rows() const { return rows_; }
     int columns() const { return columns_; }
     bool cell(int row, int column) const { return cells_[static_cast<std::size_t>(row) * columns_ + column] != 0; }
-    void set_cell(int row, int column, bool value) { cells_[static_cast<std::size_t>(row) * columns_ + column] = value; }
+    void set_cell(int row, int column, bool value) {
+        cells_[static_cast<std::size_t>(row) * columns_ + column] = value;
+        row_count_[row] += value ? 1 : 0;  // an upper bound: clearing a cell leaves the row marked
+    }
     bool empty() const { return cells_.empty(); }
 
 private:
     int rows_ = 0, columns_ = 0;
     std::vector<std::uint8_t> cells_;
     std::vector<float> row_bounds_;  ///< u = (1 - cos theta) / 2 where each row starts
+    std::vector<int> row_count_;     ///< cells set in each row (upper bound)
 };
 
 }  // namespace caustica

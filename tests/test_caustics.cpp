@@ -219,12 +219,30 @@ TEST(Photons, ZeroOneAndRefusedCounts) {
     const Image one = caustica::testing::render(b.build());  // one photon: no crash, no NaN
     for (const glm::vec3& p : one.pixels) ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
     b.job.options.caustic_num_photons = 100'000'000'000LL;
+    RenderSession session;
+    session.set_job(b.build());
+    session.start();
     try {
-        check_photon_memory(b.build());
+        session.wait();
         FAIL() << "expected a refusal";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("--caustic-num-photons"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("--caustic-num-photons 100000000000"), std::string::npos) << e.what();
     }
+}
+
+TEST(Photons, MemoryCheckCountsOnlyWhatTheMapsLetThrough) {
+    EXPECT_NO_THROW(check_photon_memory(1e6, 1'000'000'000, 1e9));  // 1e9 directions, 1e6 through the map
+    EXPECT_THROW(check_photon_memory(1e8, 1'000'000'000, 1e9), InputError);
+    EXPECT_GT(photon_memory_bound(1e6), 36e6);  // at least the photons themselves
+}
+
+TEST(ProjectionMap, RowRangesSkipEmptyBands) {
+    ProjectionMap map(90);
+    map.set_cell(45, 10, true);  // a row at the equator: u around 0.5
+    EXPECT_TRUE(map.any_occupied_between(0.49, 0.51));
+    EXPECT_FALSE(map.any_occupied_between(0.0, 0.3));
+    EXPECT_FALSE(map.any_occupied_between(0.7, 1.2));  // wraps round to 0.2
+    EXPECT_TRUE(map.any_occupied_between(0.9, 1.6));   // wraps round past 0.5
 }
 
 TEST(Photons, NoSpecularObjectMeansNoPhotonPass) {

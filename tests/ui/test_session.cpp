@@ -1,0 +1,338 @@
+// The render session as the preview drives it: cancelling in every stage, hundreds of parameter
+// changes while rendering, no stale tile ever shown, no growth in memory, and picking from another
+// thread. Small and GL-free, so that CI also runs it under ThreadSanitizer (session_tests).
+#include "ui/preview_driver.h"
+
+#include "tests/test_support.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <thread>
+#include <unistd.h>
+
+#if defined(__SANITIZE_THREAD__)
+constexpr double slowdown = 10.0;  // ThreadSanitizer runs instrumented code 5-15x slower
+constexpr int work_divisor = 4;    // so the stage tests use smaller images and fewer photons
+// ThreadSanitizer cannot see oneTBB's task hand-offs (the Debian libtbb is not instrumented) and
+// reports every parallel_for as a race. Under it, each TBB arena runs on the thread that enters
+// it: what stays concurrent is what the preview adds, the UI thread against the session's worker
+// thread (and a picking thread), and that is what these tests check.
+static const tbb::global_control one_thread_per_arena(tbb::global_control::max_allowed_parallelism, 1);
+#else
+constexpr double slowdown = 1.0;
+constexpr int work_divisor = 1;
+#endif
+
+namespace caustica::ui {
+namespace {
+
+using caustica::testing::JobBuilder;
+using clock_type = std::chrono::steady_clock;
+
+double seconds_since(clock_type::time_point t0) {
+    return std::chrono::duration<double>(clock_type::now() - t0).count();
+}
+
+/// A floor, a diffuse ball and a mirror ball under a light with quadratic falloff; the camera
+/// sees sky above the floor, whose miss colour tags each job: (0.25, id / 4096, 0.75).
+JobBuilder lit_scene(int width, int height) {
+    JobBuilder b(width, height);
+    const int white = b.material({0.7, 0.7, 0.7});
+    const int red = b.material({0.7, 0.2, 0.2});
+    const int mirror = b.material({0.0, 0.0, 0.0}, {0.5, 0.5, 0.5}, 50.0, true);
+    const int floor = b.add(NodeKind::cube, white);
+    b.translate(floor, {0.0, -1.05, 0.0});
+    b.scale(floor, {3.0, 0.05, 3.0});
+    const int ball = b.add(NodeKind::sphere, red);
+    b.translate(ball, {-0.6, -0.5, 0.0});
+    b.scale(ball, {0.5, 0.5, 0.5});
+    const int shiny = b.add(NodeKind::sphere, mirror);
+    b.translate(shiny, {0.7, -0.5, -0.3});
+    b.scale(shiny, {0.5, 0.5, 0.5});
+    b.light({0.5, 2.5, 1.0}, {3.0, 3.0, 3.0}, {0.3, 0.0, 0.45});
+    b.camera({0.0, 0.6, 5.0}, {0.0, -0.15, -1.0}, 45.0);
+    b.job.ambient = {0.2, 0.2, 0.2};
+    return b;
+}
+
+glm::dvec3 tag_colour(int id) { return {0.25, id / 4096.0, 0.75}; }
+
+/// The job id of a sky pixel, or -1 when the pixel is not sky.
+int sky_tag(const glm::vec3& p) { return p.x == 0.25f && p.z == 0.75f ? static_cast<int>(p.y * 4096.0f + 0.5f) : -1; }
+
+/// A square grid of 2 n^2 triangles in the plane y = -1: a scene that takes a while to build.
+std::shared_ptr<const MeshData> big_grid(int n) {
+    auto mesh = std::make_shared<MeshData>();
+    mesh->path = "grid";
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) mesh->positions.push_back({-2.0f + 4.0f * i / n, -1.0f, -2.0f + 4.0f * j / n});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const unsigned a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            mesh->triangles.push_back({a, c, b});
+            mesh->triangles.push_back({b, c, d});
+        }
+    return mesh;
+}
+
+/// Polls the session until its stage is `stage`; false when the render went past it.
+bool wait_for_stage(const RenderSession& session, const std::string& stage, double seconds) {
+    const auto t0 = clock_type::now();
+    while (seconds_since(t0) < seconds) {
+        const SessionProgress p = session.progress();
+        if (p.running && p.stage == stage) return true;
+        if (!p.running) return false;
+        std::this_thread::sleep_for(std::chrono::microseconds(50));
+    }
+    return false;
+}
+
+/// Resident memory of this process in bytes.
+double resident_bytes() {
+    std::ifstream statm("/proc/self/statm");
+    double pages = 0.0, resident = 0.0;
+    statm >> pages >> resident;
+    return resident * static_cast<double>(::sysconf(_SC_PAGESIZE));
+}
+
+struct StageCase {
+    const char* stage;
+    double stop_seconds;  ///< the bound on the worker stopping after cancel()
+};
+
+class CancelDuringStage : public ::testing::TestWithParam<StageCase> {};
+
+TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
+    const StageCase c = GetParam();
+    const std::string stage = c.stage;
+    JobBuilder b = lit_scene(1024 / work_divisor, 768 / work_divisor);
+    b.job.options.aa_threshold = 0.0;  // anti-alias every pixel that differs at all: a long last pass
+    if (stage == "building the scene") {
+        b.scene->meshes.push_back(big_grid(700));  // ~1M triangles
+        const int grid = b.add(NodeKind::mesh, 0);
+        b.scene->nodes[grid].mesh = 0;
+    }
+    if (stage == "shooting photons") {
+        b.job.options.caustic_num_photons = 8'000'000 / (work_divisor * work_divisor);
+        b.job.options.projection_map = ProjectionMapMode::off;  // trace every photon: a long pass
+    } else {
+        b.job.options.caustic_num_photons = 20000;
+    }
+    const RenderJob job = b.build();
+
+    RenderSession session;
+    session.set_progressive(true);
+    session.set_job(job);
+    session.start();
+    ASSERT_TRUE(wait_for_stage(session, stage, 60.0 * slowdown)) << "never saw the stage '" << stage << "'";
+    const auto t0 = clock_type::now();
+    session.cancel();
+    const double cancel_seconds = seconds_since(t0);
+    while (session.progress().running) std::this_thread::sleep_for(std::chrono::microseconds(100));
+    const double stop_seconds = seconds_since(t0);
+    std::printf("[ cancel  ] %-18s cancel() %.3f ms, worker stopped after %.1f ms\n", c.stage, 1e3 * cancel_seconds,
+                1e3 * stop_seconds);
+    EXPECT_LT(cancel_seconds, 0.001 * slowdown);
+    EXPECT_LT(stop_seconds, c.stop_seconds * slowdown);
+    EXPECT_FALSE(session.wait());
+    EXPECT_TRUE(session.progress().cancelled);
+
+    const RenderSession::StageCounters before = session.stage_counters();
+    session.set_job(job);
+    session.start();
+    EXPECT_TRUE(session.wait());
+    const RenderSession::StageCounters after = session.stage_counters();
+    // A finished BVH is kept even when its render was cancelled; a cut photon pass is not (when
+    // the cancel came during the scene build, the photon pass that followed stopped at once).
+    const bool photons_cut = stage == "shooting photons" || stage == "building the scene";
+    EXPECT_EQ(after.scene_builds, before.scene_builds);
+    EXPECT_EQ(after.photon_passes, before.photon_passes + (photons_cut ? 1 : 0));
+    if (stage != "building the scene" && stage != "shooting photons") {
+        RenderSession fresh;
+        fresh.set_job(job);
+        fresh.start();
+        ASSERT_TRUE(fresh.wait());
+        EXPECT_EQ(session.image().pixels, fresh.image().pixels);  // reproducible: nothing left of the cut render
+    }
+}
+
+// A pass stops within a frame (16 ms); building the BVH and the k-d tree of the photons shot so
+// far cannot be interrupted, so those stages get longer bounds (the UI never waits for them).
+INSTANTIATE_TEST_SUITE_P(Stages, CancelDuringStage,
+                         ::testing::Values(StageCase{"building the scene", 10.0}, StageCase{"shooting photons", 5.0},
+                                           StageCase{"preview", 0.016}, StageCase{"first samples", 0.016},
+                                           StageCase{"anti-aliasing", 0.016}),
+                         [](const auto& info) {
+                             std::string name = info.param.stage;
+                             for (char& ch : name)
+                                 if (ch == ' ' || ch == '-') ch = '_';
+                             return name;
+                         });
+
+TEST(PreviewDriver, HundredsOfChangesWhileRenderingShowNoStaleTile) {
+    JobBuilder b = lit_scene(192, 144);
+    b.job.options.caustic_num_photons = 20000;
+    b.job.options.reproducible = true;
+    RenderJob job = b.build();
+    PreviewDriver driver;
+    std::mt19937 random(5);
+    int id = 1;
+    std::size_t tiles_checked = 0;
+    const auto check_tiles = [&] {
+        const int current = sky_tag(glm::vec3(driver.job().miss_colour));
+        const Image& image = driver.image();
+        for (std::size_t t : driver.changed_tiles()) {
+            const Tile& tile = driver.tiles()[t];
+            for (int y = tile.y0; y < tile.y1; ++y)
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    const int tag = sky_tag(image.at(x, y));
+                    ASSERT_TRUE(tag == -1 || tag == current) << "tile " << t << " shows job " << tag << " while job "
+                                                             << current << " renders";
+                }
+            ++tiles_checked;
+        }
+    };
+    for (int step = 0; step < 400; ++step) {
+        job.miss_colour = tag_colour(++id);
+        switch (random() % 6) {
+        case 0: job.camera.eye.x += 0.01; break;
+        case 1: job.options.caustic_num_neighbours = 20 + static_cast<int>(random() % 100); break;
+        case 2: job.options.caustic_max_dist = 0.05 + 0.01 * (random() % 10); break;
+        case 3: job.options.caustic_num_photons = 10000 + 1000 * (random() % 20); break;
+        case 4: job.width = (random() % 2) ? 192 : 160; break;
+        default: job.options.threads = 1 + static_cast<int>(random() % 2); break;
+        }
+        driver.request(job);
+        driver.update();
+        check_tiles();
+        if (HasFatalFailure()) return;
+        std::this_thread::sleep_for(std::chrono::microseconds(random() % 3000));
+        driver.update();
+        check_tiles();
+        if (HasFatalFailure()) return;
+    }
+    const auto t0 = clock_type::now();
+    while (!driver.finished() && seconds_since(t0) < 60.0 * slowdown) {
+        driver.update();
+        check_tiles();
+        if (HasFatalFailure()) return;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_TRUE(driver.finished());
+    EXPECT_GT(tiles_checked, 0u);
+    // Every tile of the shown image is the last job's, exactly as a render of it alone.
+    RenderSession reference;
+    reference.set_job(job);
+    reference.start();
+    ASSERT_TRUE(reference.wait());
+    EXPECT_EQ(driver.image().pixels, reference.image().pixels);
+    std::printf("[ restarts] %llu renders started, longest restart %.2f ms, %zu tiles checked\n",
+                static_cast<unsigned long long>(driver.restarts()), 1e3 * driver.longest_restart_seconds(), tiles_checked);
+    EXPECT_LT(driver.longest_restart_seconds(), 0.016 * slowdown);
+    EXPECT_FALSE(driver.take_error().has_value());
+}
+
+TEST(PreviewDriver, MemoryStaysFlatOverManyRestarts) {
+    JobBuilder b = lit_scene(256, 192);
+    b.job.options.caustic_num_photons = 50000;
+    RenderJob job = b.build();
+    PreviewDriver driver;
+    auto churn = [&](int steps) {
+        for (int i = 0; i < steps; ++i) {
+            job.camera.eye.x = 0.001 * (i % 50);
+            job.options.caustic_num_photons = 50000 + (i % 3) * 1000;  // re-shoot, new maps
+            driver.request(job);
+            for (int k = 0; k < 3; ++k) {
+                driver.update();
+                std::this_thread::sleep_for(std::chrono::microseconds(500));
+            }
+        }
+        while (!driver.finished()) {
+            driver.update();
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+    };
+    churn(60);  // warm up: allocator pools, TBB threads, the image
+    const double before = resident_bytes();
+    churn(300);
+    const double growth = resident_bytes() - before;
+    std::printf("[ memory  ] resident growth over 300 restarts: %.1f MiB\n", growth / 1048576.0);
+    // One leaked image or photon map per restart would be > 100 MiB here.
+    EXPECT_LT(growth, 24.0 * 1048576.0 * (slowdown > 1.0 ? 4.0 : 1.0));
+}
+
+TEST(PreviewDriver, PickFromAnotherThreadWhileScenesAreRebuilt) {
+    JobBuilder b = lit_scene(128, 96);
+    RenderJob job = b.build();
+    PreviewDriver driver;
+    std::atomic<bool> stop{false};
+    std::atomic<int> hits{0};
+    std::thread picker([&] {  // as the overlay tracer does
+        const Ray down{{0.0f, 3.0f, 0.5f}, {0.0f, -1.0f, 0.0f}, 0.0f, ray_infinity};
+        while (!stop) {
+            glm::vec3 p;
+            if (driver.session().pick(down, p)) ++hits;
+        }
+    });
+    auto scene = std::make_shared<SceneDesc>(*job.scene);
+    for (int i = 0; i < 60; ++i) {
+        scene = std::make_shared<SceneDesc>(*scene);
+        scene->nodes[1].transforms[0].amount.y = -1.05 + 0.001 * i;  // the floor moves: a new BVH
+        job.scene = scene;
+        driver.request(job);
+        for (int k = 0; k < 5; ++k) {
+            driver.update();
+            std::this_thread::sleep_for(std::chrono::microseconds(300));
+        }
+    }
+    while (!driver.finished()) {
+        driver.update();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    stop = true;
+    picker.join();
+    EXPECT_GT(hits.load(), 0);
+    EXPECT_GT(driver.session().stage_counters().scene_builds, 1);
+}
+
+TEST(PreviewDriver, DestroyingTheDriverWhileRenderingReturnsPromptly) {
+    JobBuilder b = lit_scene(1024, 768);
+    b.job.options.aa_threshold = 0.0;
+    auto driver = std::make_unique<PreviewDriver>();
+    driver->request(b.build());
+    driver->update();
+    ASSERT_TRUE(wait_for_stage(driver->session(), "first samples", 30.0 * slowdown));
+    const auto t0 = clock_type::now();
+    driver.reset();
+    EXPECT_LT(seconds_since(t0), 0.05 * slowdown);
+}
+
+TEST(PreviewDriver, ARenderErrorIsReportedOnceAndTheDriverGoesOn) {
+    JobBuilder b = lit_scene(64, 48);
+    b.job.options.caustic_num_photons = 1000;
+    b.scene->materials[2].kd = {0.9, 0.9, 0.9};  // the mirror: mean(kd) + mean(ks) = 1.4 > 1
+    PreviewDriver driver;
+    driver.request(b.build());
+    std::optional<std::string> error;
+    const auto t0 = clock_type::now();
+    while (!error && seconds_since(t0) < 10.0 * slowdown) {
+        driver.update();
+        error = driver.take_error();
+    }
+    ASSERT_TRUE(error.has_value());
+    EXPECT_NE(error->find("exceeds 1"), std::string::npos) << *error;
+    EXPECT_FALSE(driver.take_error().has_value());
+    b.scene->materials[2].kd = {0.0, 0.0, 0.0};
+    driver.request(b.build());
+    while (!driver.finished() && seconds_since(t0) < 20.0 * slowdown) driver.update();
+    EXPECT_TRUE(driver.finished());
+}
+
+}  // namespace
+}  // namespace caustica::ui

@@ -1,0 +1,282 @@
+// The preview's model without GL: loading, live knobs that redo only what they invalidate
+// (checked with the session's stage counters), scene errors that keep the previous scene,
+// reloading on file changes, reverting settings that fail to render, saving, arguments.
+#include "ui/view_arguments.h"
+#include "ui/view_model.h"
+#include "ui_test_support.h"
+
+#include "core/png_io.h"
+#include "core/source_location.h"
+
+#include <gtest/gtest.h>
+
+namespace caustica::ui {
+namespace {
+
+using namespace caustica::ui::testing;
+
+ModelConfig test_config() {
+    ModelConfig config;
+    config.option_tokens = {"--reproducible", "--threads", "2"};
+    return config;  // no recent file
+}
+
+/// A model showing a finished render of the test scene.
+struct LoadedModel {
+    TempFolder folder;
+    std::string scene;
+    ViewModel model{test_config()};
+
+    explicit LoadedModel(const std::string& text = caustic_box_text()) {
+        scene = folder.write("scene.lua", text);
+        model.open(scene);
+        EXPECT_TRUE(run_until_finished(model)) << model.error();
+    }
+};
+
+TEST(ViewModel, LoadsInTheBackgroundAndRendersTheScriptsView) {
+    LoadedModel m;
+    EXPECT_TRUE(m.model.has_scene());
+    EXPECT_EQ(m.model.scene_path(), m.scene);
+    EXPECT_EQ(m.model.driver().image().width, 256);
+    EXPECT_EQ(m.model.driver().image().height, 192);
+    EXPECT_FALSE(m.model.orbit_camera().moved());
+    EXPECT_EQ(m.model.driver().job().camera.eye, glm::dvec3(0.0, 1.6, 4.6));
+    const auto counters = m.model.stage_counters();
+    EXPECT_EQ(counters.scene_builds, 1);
+    EXPECT_EQ(counters.photon_passes, 1);
+    EXPECT_TRUE(m.model.error().empty());
+}
+
+TEST(ViewModel, CameraMovesNeitherRebuildNorReshoot) {
+    LoadedModel m;
+    const auto before = m.model.stage_counters();
+    m.model.orbit(20.0, 5.0);
+    m.model.zoom(2.0);
+    m.model.pan({10.0, -4.0});
+    ASSERT_TRUE(run_until_finished(m.model));
+    const auto after = m.model.stage_counters();
+    EXPECT_EQ(after.scene_builds, before.scene_builds);
+    EXPECT_EQ(after.photon_passes, before.photon_passes);
+    EXPECT_GT(after.renders, before.renders);
+    EXPECT_TRUE(m.model.orbit_camera().moved());
+}
+
+TEST(ViewModel, NeighboursAndMaxDistanceOnlyGatherAgain) {
+    LoadedModel m;
+    const auto before = m.model.stage_counters();
+    CausticKnobs k = m.model.knobs();
+    k.num_neighbours = 40;
+    m.model.set_knobs(k);
+    ASSERT_TRUE(run_until_finished(m.model));
+    k.max_dist = 0.05;
+    m.model.set_knobs(k);
+    ASSERT_TRUE(run_until_finished(m.model));
+    const auto after = m.model.stage_counters();
+    EXPECT_EQ(after.photon_passes, before.photon_passes);
+    EXPECT_EQ(after.scene_builds, before.scene_builds);
+    EXPECT_EQ(after.renders, before.renders + 2);
+    EXPECT_EQ(m.model.driver().job().options.caustic_num_neighbours, 40);
+    EXPECT_EQ(m.model.driver().job().options.caustic_max_dist, 0.05);
+}
+
+TEST(ViewModel, PhotonKnobsShootAgainWithoutRebuildingTheScene) {
+    LoadedModel m;
+    const auto before = m.model.stage_counters();
+    CausticKnobs k = m.model.knobs();
+    k.num_photons = 500000;
+    m.model.set_knobs(k);
+    ASSERT_TRUE(run_until_finished(m.model));
+    k.unit_distance = 2.0;
+    m.model.set_knobs(k);
+    ASSERT_TRUE(run_until_finished(m.model));
+    const auto after = m.model.stage_counters();
+    EXPECT_EQ(after.photon_passes, before.photon_passes + 2);
+    EXPECT_EQ(after.scene_builds, before.scene_builds);
+}
+
+TEST(ViewModel, DisplaySettingsAndOverlayNeverRender) {
+    LoadedModel m;
+    const std::uint64_t restarts = m.model.driver().restarts();
+    m.model.display().exposure = 2.0f;
+    m.model.display().srgb = true;
+    m.model.set_overlay({true, true, 0});
+    ASSERT_TRUE(run_until(m.model, [&] { return m.model.overlay_settled(); }));
+    EXPECT_EQ(m.model.driver().restarts(), restarts);
+}
+
+TEST(ViewModel, OverlayTracesTheMapOfTheLastPhotonPass) {
+    LoadedModel m;
+    m.model.set_overlay({true, true, 0});
+    ASSERT_TRUE(run_until(m.model, [&] { return m.model.overlay_settled() && m.model.overlay_version() > 0; }));
+    ASSERT_EQ(m.model.driver().projection_maps().size(), 1u);
+    const OverlayImage& image = m.model.overlay_image();
+    EXPECT_GT(image.outline.size(), 20u);
+    EXPECT_GT(image.cells.size(), 20u);
+    EXPECT_NE(m.model.overlay_note().find("outline segments"), std::string::npos);
+    // A camera move reprojects without tracing again.
+    const glm::vec2 first = image.outline[0];
+    m.model.orbit(15.0, 0.0);
+    ASSERT_TRUE(run_until_finished(m.model));
+    ASSERT_TRUE(run_until(m.model, [&] { return m.model.overlay_settled(); }));
+    EXPECT_NE(m.model.overlay_image().outline[0], first);
+}
+
+TEST(ViewModel, OverlayExplainsWhyItIsEmpty) {
+    LoadedModel m(caustic_box_text(0));
+    m.model.set_overlay({true, false, 0});
+    m.model.update();
+    EXPECT_NE(m.model.overlay_note().find("photons are off"), std::string::npos);
+    EXPECT_TRUE(m.model.overlay_image().outline.empty());
+}
+
+TEST(ViewModel, ScriptErrorIsShownWithItsLineAndThePreviousSceneStays) {
+    LoadedModel m;
+    const std::vector<glm::vec3> shown = m.model.driver().image().pixels;
+    const auto scene = m.model.driver().job().scene;
+    m.folder.write("scene.lua", "white = gr.material({0.7, 0.7, 0.7}, {0, 0, 0}, 0)\n"
+                                "root = gr.node('root')\n"
+                                "ball = gr.no_such_call('ball')\n");
+    m.model.reload();
+    ASSERT_TRUE(run_until(m.model, [&] { return !m.model.loading() && !m.model.error().empty(); }));
+    EXPECT_NE(m.model.error().find("scene.lua:3:"), std::string::npos) << m.model.error();
+    EXPECT_TRUE(m.model.has_scene());
+    EXPECT_EQ(m.model.render_count(), 1);
+    ASSERT_TRUE(run_until_finished(m.model));
+    EXPECT_EQ(m.model.driver().job().scene, scene);
+    EXPECT_EQ(m.model.driver().image().pixels, shown);
+}
+
+TEST(ViewModel, ReloadsByItselfWhenTheFileChanges) {
+    LoadedModel m;
+    const auto first = m.model.driver().job().scene;
+    // Same size file or not, a new modification time is enough; make sure the clock moves on.
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    m.folder.write("scene.lua", caustic_box_text(2000000, "white = gr.material({0.9, 0.2, 0.2}, {0, 0, 0}, 0)\n"
+                                                          "floor:set_material(white)\n"));
+    ASSERT_TRUE(run_until(m.model, [&] { return m.model.driver().job().scene != first && m.model.driver().finished(); }, 30.0));
+    EXPECT_TRUE(m.model.error().empty());
+    // Only materials changed: the scene is rebuilt, and the photons follow the new geometry key.
+    EXPECT_EQ(m.model.stage_counters().scene_builds, 2);
+}
+
+TEST(ViewModel, KnobsThePersonSetSurviveAReload) {
+    LoadedModel m;
+    CausticKnobs k = m.model.knobs();
+    k.num_neighbours = 42;
+    m.model.set_knobs(k);
+    m.model.orbit(10.0, 0.0);
+    ASSERT_TRUE(run_until_finished(m.model));
+    const glm::dvec3 eye = m.model.orbit_camera().eye();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    m.folder.write("scene.lua", caustic_box_text(300000));
+    ASSERT_TRUE(run_until(m.model, [&] {
+        return m.model.driver().job().options.caustic_num_photons == 300000 && m.model.driver().finished();
+    }, 30.0));
+    EXPECT_EQ(m.model.knobs().num_neighbours, 42);
+    EXPECT_EQ(m.model.orbit_camera().eye(), eye);  // the orbit is kept too
+    m.model.reset_knobs();
+    EXPECT_EQ(m.model.knobs().num_neighbours, 100);
+}
+
+TEST(ViewModel, SettingsThatFailToRenderAreTakenBack) {
+    // kd + ks > 1 on a mirror only matters once photons are shot.
+    LoadedModel m(caustic_box_text(0, "hot = gr.material({0.6, 0.6, 0.6}, {0.8, 0.8, 0.8}, 10)\n"
+                                      "hot:set_reflective()\n"
+                                      "post:set_material(hot)\n"));
+    ASSERT_TRUE(m.model.error().empty());
+    CausticKnobs k = m.model.knobs();
+    k.num_photons = 10000;
+    m.model.set_knobs(k);
+    ASSERT_TRUE(run_until(m.model, [&] { return !m.model.error().empty(); }));
+    EXPECT_NE(m.model.error().find("scene.lua:"), std::string::npos) << m.model.error();
+    EXPECT_NE(m.model.error().find("exceeds 1"), std::string::npos) << m.model.error();
+    ASSERT_TRUE(run_until_finished(m.model));
+    EXPECT_EQ(m.model.knobs().num_photons, 0);
+    EXPECT_EQ(m.model.driver().job().options.caustic_num_photons, 0);
+}
+
+TEST(ViewModel, InitialTargetIsTheFirstSurfaceOnTheViewAxis) {
+    LoadedModel m;
+    const OrbitCamera& orbit = m.model.orbit_camera();
+    // The centre ray from (0, 1.6, 4.6) along (0, -0.4, -1) meets the floor's top at y = -1.
+    const double t = (1.6 + 1.0) / (0.4 / std::sqrt(1.16));
+    EXPECT_NEAR(orbit.distance(), t, 1e-3);
+    EXPECT_NEAR(orbit.target().y, -1.0, 1e-3);
+}
+
+TEST(ViewModel, OrbitWhenLoadedTurnsAroundThatTarget) {
+    TempFolder folder;
+    ViewModel model(test_config());
+    model.orbit_when_loaded({30.0, 0.0});
+    model.open(folder.write("scene.lua", caustic_box_text()));
+    ASSERT_TRUE(run_until_finished(model));
+    EXPECT_TRUE(model.orbit_camera().moved());
+    EXPECT_NEAR(model.orbit_camera().target().y, -1.0, 1e-3);
+    EXPECT_EQ(model.driver().job().camera.eye, model.orbit_camera().desc().eye);
+}
+
+TEST(ViewModel, DoubleClickTargetIsOnTheSurface) {
+    LoadedModel m;
+    // The image centre column, near the bottom: the floor.
+    ASSERT_TRUE(m.model.set_target_at({128.0f, 180.0f}));
+    EXPECT_NEAR(m.model.orbit_camera().target().y, -1.0, 1e-3);
+    EXPECT_FALSE(m.model.set_target_at({2.0f, 2.0f}));  // the black sky above the wall
+}
+
+TEST(ViewModel, SaveWritesThePngWithItsParametersAndAsksBeforeReplacing) {
+    LoadedModel m;
+    const std::string path = m.folder.file("saved.png");
+    SaveResult r = m.model.save(path, false);
+    ASSERT_EQ(r.outcome, SaveOutcome::written) << r.message;
+    const Png8 png = read_png(path);
+    EXPECT_EQ(png.width, 256);
+    EXPECT_EQ(png.height, 192);
+    bool camera = false, source = false, passes = false;
+    for (const auto& [key, value] : png.text) {
+        camera |= key == "caustica:camera" && value.find("eye 0 1.6 4.6") != std::string::npos;
+        source |= key == "Source" && value == m.scene;
+        passes |= key == "caustica:passes" && value == "complete";
+    }
+    EXPECT_TRUE(camera && source && passes);
+    r = m.model.save(path, false);
+    EXPECT_EQ(r.outcome, SaveOutcome::exists);
+    r = m.model.save(path, true);
+    EXPECT_EQ(r.outcome, SaveOutcome::written);
+    EXPECT_EQ(m.model.save(m.folder.file("saved.jpg"), false).outcome, SaveOutcome::failed);
+}
+
+TEST(ViewModel, ResolutionScaleAndThreadsRenderAgainOnly) {
+    LoadedModel m;
+    const auto before = m.model.stage_counters();
+    m.model.set_resolution_scale(0.5);
+    m.model.set_threads(1);
+    ASSERT_TRUE(run_until_finished(m.model));
+    EXPECT_EQ(m.model.driver().image().width, 128);
+    EXPECT_EQ(m.model.driver().image().height, 96);
+    EXPECT_EQ(m.model.driver().job().options.threads, 1);
+    EXPECT_EQ(m.model.stage_counters().photon_passes, before.photon_passes);
+    EXPECT_EQ(m.model.stage_counters().scene_builds, before.scene_builds);
+}
+
+TEST(ViewArguments, ParsesTheViewCommandLine) {
+    const ViewArguments a = parse_view_arguments(
+        {"scene.lua", "--frames", "12", "--snapshot=out.png", "--overlay", "--orbit", "30,-10.5", "--headless",
+         "--reproducible", "--caustic-num-photons", "1000"});
+    EXPECT_EQ(a.scene, "scene.lua");
+    EXPECT_EQ(a.frames, 12);
+    EXPECT_EQ(a.snapshot, "out.png");
+    EXPECT_TRUE(a.overlay && a.headless && a.scripted());
+    ASSERT_TRUE(a.orbit.has_value());
+    EXPECT_EQ(*a.orbit, glm::dvec2(30.0, -10.5));
+    EXPECT_EQ(a.option_tokens, (std::vector<std::string>{"--reproducible", "--caustic-num-photons", "1000"}));
+    EXPECT_THROW(parse_view_arguments({"--orbit", "30"}), InputError);
+    EXPECT_THROW(parse_view_arguments({"--frames", "0"}), InputError);
+    EXPECT_THROW(parse_view_arguments({"--snapshot", "x.jpg"}), InputError);
+    EXPECT_THROW(parse_view_arguments({"--no-such-option"}), InputError);
+    EXPECT_THROW(parse_view_arguments({"a.lua", "b.lua"}), InputError);
+    EXPECT_FALSE(parse_view_arguments({}).scripted());
+}
+
+}  // namespace
+}  // namespace caustica::ui

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# The real window under Xvfb: `caustica view` must open a GLFW window (not fall back to headless),
+# render the scene with the overlay on and orbited, and write a snapshot that snapshot_check accepts.
+# usage: xvfb_view_test.sh CAUSTICA SNAPSHOT_CHECK SCENE.lua
+set -euo pipefail
+caustica=$1 check=$2 scene=$3
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+if ! XDG_CONFIG_HOME="$out" xvfb-run -a -s "-screen 0 1280x720x24" \
+     "$caustica" view "$scene" --frames 30 --snapshot "$out/window.png" --overlay --orbit 20,5 >"$out/log" 2>&1; then
+  cat "$out/log"
+  exit 1
+fi
+if grep -q "running headless" "$out/log"; then
+  echo "caustica view fell back to headless under Xvfb"
+  exit 1
+fi
+"$check" "$out/window.png" glfw
