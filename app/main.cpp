@@ -1,5 +1,6 @@
 // caustica: the command-line entry point. Subcommands as in yocto's apps: render, view.
 #include "app/render_command.h"
+#include "app/view_command.h"
 #include "core/source_location.h"
 
 #include <cstdio>
@@ -14,7 +15,8 @@ const char* usage =
     "\n"
     "usage:\n"
     "  caustica render [options] SCENE.lua [-o OUT.png]   render every gr.render of a scene\n"
-    "  caustica view SCENE.lua                            interactive preview (not built yet)\n"
+    "  caustica view [SCENE.lua] [--headless] [--snapshot FILE.png] ...\n"
+    "                                                     interactive preview ('caustica view --help')\n"
     "  caustica SCENE.lua                                 same as 'caustica render SCENE.lua'\n"
     "  caustica --help | --version\n"
     "\n"
@@ -39,12 +41,7 @@ int main(int argc, char** argv) {
             return caustica::exit_ok;
         }
         if (command == "render") return caustica::run_render_command({args.begin() + 1, args.end()});
-        if (command == "view") {
-            std::fprintf(stderr,
-                         "caustica view: the interactive preview is not part of this build yet; "
-                         "use 'caustica render' for now\n");
-            return caustica::exit_usage;
-        }
+        if (command == "view") return caustica::run_view_command({args.begin() + 1, args.end()});
         if (command.size() > 4 && command.compare(command.size() - 4, 4, ".lua") == 0)
             return caustica::run_render_command(args);
         std::fprintf(stderr, "caustica: unknown command '%s'\n\n%s", command.c_str(), usage);

@@ -8,10 +8,13 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <map>
+#include <ostream>
 #include <random>
 #include <thread>
 #include <unistd.h>
@@ -106,6 +109,9 @@ struct StageCase {
     double stop_seconds;  ///< the bound on the worker stopping after cancel()
 };
 
+/// For gtest's test listing.
+void PrintTo(const StageCase& c, std::ostream* os) { *os << c.stage; }
+
 class CancelDuringStage : public ::testing::TestWithParam<StageCase> {};
 
 TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
@@ -184,16 +190,27 @@ TEST(PreviewDriver, HundredsOfChangesWhileRenderingShowNoStaleTile) {
     std::mt19937 random(5);
     int id = 1;
     std::size_t tiles_checked = 0;
+    std::map<std::uint64_t, int> tag_of_generation;  // which job each started render drew
+    std::uint64_t newest_copied = 0;
     const auto check_tiles = [&] {
-        const int current = sky_tag(glm::vec3(driver.job().miss_colour));
+        tag_of_generation[driver.generation()] = sky_tag(glm::vec3(driver.job().miss_colour));
         const Image& image = driver.image();
-        for (std::size_t t : driver.changed_tiles()) {
+        const std::vector<std::size_t>& changed = driver.changed_tiles();
+        for (std::size_t k = 0; k < changed.size(); ++k) {
+            const std::size_t t = changed[k];
+            const std::uint64_t generation = driver.changed_generations()[k];
+            // Copies come from ever newer renders, never from one older than a copy before.
+            ASSERT_GE(generation, newest_copied);
+            newest_copied = generation;
+            if (std::find(changed.begin() + k + 1, changed.end(), t) != changed.end()) continue;  // copied again since
+            ASSERT_TRUE(tag_of_generation.count(generation));
+            const int expected = tag_of_generation[generation];
             const Tile& tile = driver.tiles()[t];
             for (int y = tile.y0; y < tile.y1; ++y)
                 for (int x = tile.x0; x < tile.x1; ++x) {
                     const int tag = sky_tag(image.at(x, y));
-                    ASSERT_TRUE(tag == -1 || tag == current) << "tile " << t << " shows job " << tag << " while job "
-                                                             << current << " renders";
+                    ASSERT_TRUE(tag == -1 || tag == expected)
+                        << "tile " << t << " of render " << generation << " shows job " << tag << ", not " << expected;
                 }
             ++tiles_checked;
         }

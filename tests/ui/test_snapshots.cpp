@@ -361,7 +361,7 @@ TEST(CommandLine, WithoutADisplayViewRunsHeadlessAndWritesTheWindow) {
                              scene + " --frames 3 --snapshot " + out + " --overlay --orbit 15,5",
                          output);
     ASSERT_EQ(code, 0) << output;
-    EXPECT_NE(output.find("running headless"), std::string::npos) << output;
+    EXPECT_NE(output.find("runs headless"), std::string::npos) << output;
     const Png8 png = read_png(out);
     EXPECT_EQ(png.width, 1280);
     EXPECT_EQ(png.height, 720);
@@ -384,6 +384,8 @@ TEST(CommandLine, BadArgumentsAreRefusedBeforeAnythingOpens) {
     EXPECT_NE(output.find("--orbit 30: expects YAW,PITCH"), std::string::npos) << output;
     EXPECT_EQ(run(std::string(CAUSTICA_BINARY) + " view --headless --help", output), 0);
     EXPECT_NE(output.find("--snapshot FILE"), std::string::npos) << output;
+    EXPECT_EQ(run(std::string(CAUSTICA_BINARY) + " view --headless no_such_scene.lua", output), 2);
+    EXPECT_NE(output.find("no_such_scene.lua: no such scene file"), std::string::npos) << output;
 }
 
 }  // namespace

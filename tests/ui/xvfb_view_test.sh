@@ -11,7 +11,7 @@ if ! XDG_CONFIG_HOME="$out" xvfb-run -a -s "-screen 0 1280x720x24" \
   cat "$out/log"
   exit 1
 fi
-if grep -q "running headless" "$out/log"; then
+if grep -q "runs headless" "$out/log"; then
   echo "caustica view fell back to headless under Xvfb"
   exit 1
 fi

@@ -1,0 +1,42 @@
+// The rendered image on screen: a float texture updated tile by tile (only the tiles the driver
+// copied this frame) and drawn with shaders/image.* (exposure and sRGB are display-only).
+#pragma once
+
+#include "ui/gl_program.h"
+#include "ui/image_layout.h"
+#include "ui/preview_driver.h"
+#include "ui/view_model.h"
+
+#include <cstddef>
+
+namespace caustica::ui {
+
+/// The GL side of the shown image (needs a current context for its whole life).
+class ImageView {
+public:
+    ImageView();
+    ~ImageView();
+    ImageView(const ImageView&) = delete;
+    ImageView& operator=(const ImageView&) = delete;
+
+    /// Uploads the tiles the last PreviewDriver::update() copied (everything after a resize), one
+    /// glTexSubImage2D per run of neighbouring tiles in a tile row.
+    void upload(const PreviewDriver& driver);
+
+    /// Draws the image where `layout` puts it in a window of `window` pixels.
+    void draw(const ImageLayout& layout, glm::vec2 window, const DisplaySettings& display) const;
+
+    /// Tiles and glTexSubImage2D calls of the last upload (for statistics and benchmarks).
+    std::size_t uploaded_tiles() const { return uploaded_tiles_; }
+    std::size_t upload_calls() const { return upload_calls_; }
+
+private:
+    void upload_rect(const Image& image, int x0, int y0, int x1, int y1);
+
+    GlProgram program_;
+    GLuint texture_ = 0, vertex_array_ = 0;
+    int width_ = 0, height_ = 0;
+    std::size_t uploaded_tiles_ = 0, upload_calls_ = 0;
+};
+
+}  // namespace caustica::ui

@@ -1,0 +1,134 @@
+// What floats over the image area: the status line, a scene error, the help, the overwrite
+// question and passing messages.
+#include "ui/panels.h"
+
+#include <imgui.h>
+
+#include <filesystem>
+
+namespace caustica::ui {
+namespace {
+
+constexpr ImGuiWindowFlags floating = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                      ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove;
+
+void status_line(const ViewModel& model) {
+    ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f));
+    ImGui::SetNextWindowBgAlpha(0.55f);
+    ImGui::Begin("##status", nullptr, floating | ImGuiWindowFlags_NoInputs);
+    const PreviewDriver& driver = model.driver();
+    const SessionProgress& p = driver.progress();
+    const std::string name = std::filesystem::path(model.scene_path()).filename().string();
+    if (driver.has_job()) {
+        const double done = p.tiles_total ? 100.0 * p.tiles_done / p.tiles_total : 0.0;
+        const char* what = p.running ? (p.stage.empty() ? "starting" : p.stage.c_str())
+                                     : p.finished ? "done" : p.cancelled ? "stopped" : "failed";
+        ImGui::Text("%s  %d x %d  %s %3.0f%%  %.2f s", name.c_str(), driver.job().width, driver.job().height, what, done,
+                    p.elapsed_seconds);
+    } else {
+        ImGui::TextUnformatted(model.loading() ? "loading..." : "no scene");
+    }
+    if (model.loading() && driver.has_job()) ImGui::TextDisabled("loading %s...", name.c_str());
+    ImGui::End();
+}
+
+void error_banner(ViewModel& model, glm::vec2 area) {
+    if (model.error().empty()) return;
+    ImGui::SetNextWindowPos(ImVec2(8.0f, 40.0f));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 0.0f), ImVec2(area.x - 16.0f, area.y * 0.5f));
+    ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.45f, 0.05f, 0.05f, 0.92f));
+    ImGui::Begin("##error", nullptr, floating);
+    ImGui::PushTextWrapPos(area.x - 40.0f);
+    ImGui::TextUnformatted(model.error().c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::TextDisabled("the previous scene stays on screen; fix the file and it reloads");
+    if (ImGui::SmallButton("dismiss")) model.clear_error();
+    ImGui::End();
+    ImGui::PopStyleColor();
+}
+
+void help_window(PanelState& state, glm::vec2 area) {
+    if (!state.show_help) return;
+    ImGui::SetNextWindowPos(ImVec2(area.x * 0.5f, area.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::Begin("Keys and mouse (F1 closes)", &state.show_help,
+                 ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse);
+    static const char* const rows[][2] = {
+        {"left drag", "orbit around the target"},
+        {"right or middle drag", "pan"},
+        {"wheel, + / -", "zoom"},
+        {"double-click", "set the target on the surface under the cursor"},
+        {"arrow keys", "orbit by 5 degrees"},
+        {"R, Home", "back to the script's camera"},
+        {"O / C", "projection-map outline / occupied cells"},
+        {"P / D", "photons-only view / photon dots"},
+        {"E / Shift+E", "exposure up / down one stop (0: reset with Ctrl+E)"},
+        {"G", "sRGB display"},
+        {"F5", "reload the scene (it also reloads by itself)"},
+        {"Ctrl+S", "save the PNG"},
+        {"drop a .lua file", "open it"},
+        {"F1, H", "this help"},
+        {"Esc", "close this help"},
+        {"Ctrl+Q", "quit"},
+    };
+    if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg)) {
+        for (const auto& row : rows) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(row[0]);
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(row[1]);
+        }
+        ImGui::EndTable();
+    }
+    ImGui::End();
+}
+
+void overwrite_question(ViewModel& model, PanelState& state) {
+    if (state.ask_overwrite) {
+        ImGui::OpenPopup("Replace the file?");
+        state.ask_overwrite = false;
+    }
+    if (!ImGui::BeginPopupModal("Replace the file?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+    ImGui::Text("%s exists. Replace it?", state.save_path.data());
+    if (ImGui::Button("Replace")) {
+        show_message(state, model.save(state.save_path.data(), true).message);
+        ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+}
+
+void message(PanelState& state, glm::vec2 area) {
+    if (state.message.empty() || ImGui::GetTime() > state.message_until) return;
+    ImGui::SetNextWindowPos(ImVec2(8.0f, area.y - 8.0f), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+    ImGui::SetNextWindowBgAlpha(0.75f);
+    ImGui::Begin("##message", nullptr, floating | ImGuiWindowFlags_NoInputs);
+    ImGui::TextUnformatted(state.message.c_str());
+    ImGui::End();
+}
+
+void empty_hint(const ViewModel& model, glm::vec2 area) {
+    if (model.has_scene()) return;
+    ImGui::SetNextWindowPos(ImVec2(area.x * 0.5f, area.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::Begin("##empty", nullptr, floating | ImGuiWindowFlags_NoInputs);
+    ImGui::TextUnformatted(model.loading() ? "loading the scene..."
+                                           : "Open a scene: type its path in the Scene panel, pick one of the\n"
+                                             "scenes listed there, or drop a .lua file on this window.");
+    ImGui::End();
+}
+
+}  // namespace
+
+void draw_image_overlays(ViewModel& model, PanelState& state, const ImageLayout&, glm::vec2 window) {
+    const glm::vec2 area(window.x - sidebar_width, window.y);
+    status_line(model);
+    error_banner(model, area);
+    empty_hint(model, area);
+    message(state, area);
+    help_window(state, area);
+    overwrite_question(model, state);
+}
+
+}  // namespace caustica::ui

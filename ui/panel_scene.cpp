@@ -1,0 +1,73 @@
+// The Scene section: open by path, from the scene folder or the recent list; choose the render.
+#include "ui/panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+
+namespace caustica::ui {
+namespace {
+
+void set_field(std::array<char, 1024>& field, const std::string& text) {
+    std::strncpy(field.data(), text.c_str(), field.size() - 1);
+    field[field.size() - 1] = '\0';
+}
+
+/// A list of paths; opens the one clicked.
+void scene_list(ViewModel& model, PanelState& state, const char* id, const std::vector<std::string>& paths, int rows) {
+    const float height = ImGui::GetTextLineHeightWithSpacing() * static_cast<float>(std::min<int>(rows, std::max<int>(1, paths.size()))) + 6.0f;
+    if (!ImGui::BeginListBox(id, ImVec2(-1.0f, height))) return;
+    for (const std::string& path : paths) {
+        const bool current = path == model.scene_path();
+        if (ImGui::Selectable(path.c_str(), current)) {
+            set_field(state.open_path, path);
+            model.open(path);
+        }
+    }
+    ImGui::EndListBox();
+}
+
+}  // namespace
+
+void draw_scene_section(ViewModel& model, PanelState& state) {
+    if (state.open_path[0] == '\0' && !model.scene_path().empty()) set_field(state.open_path, model.scene_path());
+    ImGui::PushItemWidth(-60.0f);
+    const bool entered = ImGui::InputText("##path", state.open_path.data(), state.open_path.size(),
+                                          ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::PopItemWidth();
+    ImGui::SameLine();
+    if ((ImGui::Button("Open") || entered) && state.open_path[0] != '\0') model.open(state.open_path.data());
+    if (model.loading()) {
+        ImGui::SameLine();
+        ImGui::TextDisabled("loading...");
+    }
+
+    const double now = ImGui::GetTime();
+    if (now - state.scene_files_at > 2.0) {  // the folder is listed again every two seconds
+        state.scene_files = model.source().scene_files(model.scene_path());
+        state.scene_files_at = now;
+    }
+    ImGui::TextDisabled("scenes: click to open, or drop a .lua file");
+    scene_list(model, state, "##scenes", state.scene_files, 4);
+    if (!model.source().recent().empty() && ImGui::BeginCombo("recent scenes", "open a recent scene...")) {
+        for (const std::string& path : model.source().recent())
+            if (ImGui::Selectable(path.c_str(), path == model.scene_path())) {
+                set_field(state.open_path, path);
+                model.open(path);
+            }
+        ImGui::EndCombo();
+    }
+    if (model.render_count() > 1) {
+        int index = model.render_index() + 1;
+        if (ImGui::SliderInt("gr.render call", &index, 1, model.render_count())) model.select_render(index - 1);
+    }
+    const std::vector<std::string> warnings = model.warnings();
+    if (!warnings.empty() && ImGui::TreeNode("warnings", "%zu warning%s", warnings.size(), warnings.size() == 1 ? "" : "s")) {
+        for (const std::string& w : warnings) ImGui::TextWrapped("%s", w.c_str());
+        ImGui::TreePop();
+    }
+}
+
+}  // namespace caustica::ui

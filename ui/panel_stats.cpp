@@ -1,0 +1,93 @@
+// The Statistics section: photons, stage times, passes, samples per pixel, rays/s, a pass plot.
+#include "ui/panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+namespace caustica::ui {
+namespace {
+
+const StageTime* find_stage(const std::vector<StageTime>& stages, const char* name) {
+    for (const StageTime& s : stages)
+        if (s.name == name) return &s;
+    return nullptr;
+}
+
+/// One row of the stage table: the last real computation, and whether this render reused it.
+void stage_row(const PreviewDriver& driver, const char* label, const char* name) {
+    const StageTime* computed = find_stage(driver.computed_stages(), name);
+    const StageTime* now = find_stage(driver.stats().stages, name);
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(label);
+    ImGui::TableNextColumn();
+    if (computed) ImGui::Text("%9.1f ms", 1e3 * computed->seconds);
+    else ImGui::TextDisabled("-");
+    ImGui::TableNextColumn();
+    if (now && now->cached) ImGui::TextDisabled("cached");
+}
+
+}  // namespace
+
+void draw_stats_section(const ViewModel& model, const PanelState& state) {
+    const PreviewDriver& driver = model.driver();
+    const RenderStats& stats = driver.stats();
+    const SessionProgress& p = driver.progress();
+
+    for (std::size_t l = 0; l < stats.caustic_lights.size(); ++l) {
+        const LightCausticStats& c = stats.caustic_lights[l];
+        if (c.candidates == 0) continue;
+        ImGui::Text("light %zu: %lld photons shot, %lld stored", l + 1, c.traced, c.stored);
+        if (c.projection_map_used)
+            ImGui::TextDisabled("  projection map: %.1f%% of the sphere, of %lld", 100.0 * c.occupied_fraction,
+                                c.candidates);
+    }
+    if (stats.caustic_photons > 0)
+        ImGui::Text("photon map: %zu photons, %.1f MiB", stats.caustic_photons, stats.caustic_map_bytes / 1048576.0);
+    else
+        ImGui::TextDisabled("no caustic photons");
+
+    if (ImGui::BeginTable("stages", 3)) {
+        ImGui::TableSetupColumn("stage", ImGuiTableColumnFlags_WidthStretch);
+        ImGui::TableSetupColumn("time", ImGuiTableColumnFlags_WidthFixed, 90.0f);
+        ImGui::TableSetupColumn("reuse", ImGuiTableColumnFlags_WidthFixed, 50.0f);
+        stage_row(driver, "scene + BVH", "scene build");
+        stage_row(driver, "projection maps", "projection maps");
+        stage_row(driver, "photon shooting", "photon shooting");
+        stage_row(driver, "photon k-d tree", "photon k-d tree");
+        ImGui::EndTable();
+    }
+    const double render_thread_seconds = stats.total_seconds * std::max(1, stats.threads);
+    if (stats.rays.gathers > 0 && render_thread_seconds > 0.0)
+        ImGui::Text("radiance estimates: %.0f%% of render time", 100.0 * stats.rays.gather_seconds / render_thread_seconds);
+
+    const double pixels = std::max(1.0, static_cast<double>(driver.job().width) * driver.job().height);
+    double pass_seconds = 0.0;
+    for (const StageTime& s : stats.stages)
+        if (s.name == "preview" || s.name == "first samples" || s.name == "anti-aliasing") pass_seconds += s.seconds;
+    ImGui::Text("pass %d of %d: %s", std::min(p.pass + 1, std::max(1, p.passes)), std::max(1, p.passes),
+                p.running ? (p.stage.empty() ? "starting" : p.stage.c_str())
+                          : (p.finished ? "done" : p.cancelled ? "cancelled" : "-"));
+    if (stats.rays.samples > 0)
+        ImGui::Text("%.2f samples/pixel, %.2f M rays/s", stats.rays.samples / pixels,
+                    pass_seconds > 0.0 ? stats.rays.total_rays() / pass_seconds * 1e-6 : 0.0);
+
+    std::vector<float> times;
+    for (const PassTime& t : driver.pass_history()) times.push_back(static_cast<float>(1e3 * t.seconds));
+    if (times.size() > 120) times.erase(times.begin(), times.end() - 120);
+    if (!times.empty()) {
+        char caption[64];
+        std::snprintf(caption, sizeof caption, "last pass %.0f ms", times.back());
+        ImGui::PlotHistogram("##passes", times.data(), static_cast<int>(times.size()), 0, caption, 0.0f,
+                             *std::max_element(times.begin(), times.end()) * 1.1f,
+                             ImVec2(ImGui::GetContentRegionAvail().x, 48.0f));
+    }
+    ImGui::TextDisabled("UI %.0f fps (model and panels %.1f ms a frame)", ImGui::GetIO().Framerate, state.ui_frame_ms);
+    ImGui::TextDisabled("%zu renders started, longest restart %.1f ms", static_cast<std::size_t>(driver.restarts()),
+                        1e3 * driver.longest_restart_seconds());
+}
+
+}  // namespace caustica::ui

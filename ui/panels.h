@@ -1,0 +1,57 @@
+// The preview's ImGui panels: the sidebar sections (scene, caustics, view, statistics) and what
+// floats over the image (status line, error banner, help, overwrite question). They read and
+// change the ViewModel only; nothing here touches GL.
+#pragma once
+
+#include "ui/image_layout.h"
+#include "ui/view_model.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace caustica::ui {
+
+/// Width of the sidebar in pixels (the image gets the rest of the window).
+inline constexpr float sidebar_width = 370.0f;
+
+/// State of the panels between frames (text fields, open dialogs, messages).
+struct PanelState {
+    std::array<char, 1024> open_path{};   ///< the Open panel's path field
+    std::array<char, 1024> save_path{};   ///< the Save field
+    std::string save_path_scene;          ///< the scene the save path was proposed for
+    bool show_help = false;
+    bool ask_overwrite = false;           ///< open the overwrite question next frame
+    std::string message;                  ///< a passing message ("wrote x.png")
+    double message_until = 0.0;           ///< ImGui time at which the message goes
+    bool open_overlay_header = false;     ///< unfold the overlay settings once (--overlay)
+    std::vector<std::string> scene_files; ///< listing of the Open panel
+    double scene_files_at = -1e9;         ///< when it was listed
+    float ui_frame_ms = 0.0f;             ///< the last UI frame's CPU time, for the statistics
+};
+
+/// The panels' look: ImGui's dark colours, a little tighter so that every section fits 720 pixels.
+void apply_panel_style();
+
+/// The sidebar with every section.
+void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window);
+
+/// Scene section: path field, scene files, recent scenes, render choice, warnings.
+void draw_scene_section(ViewModel& model, PanelState& state);
+/// Caustics section: the knobs, views and the projection-map overlay settings.
+void draw_caustics_section(ViewModel& model, PanelState& state);
+/// View section: camera, display, resolution and threads, saving.
+void draw_view_section(ViewModel& model, PanelState& state);
+/// Statistics section: photons, stage times, passes, samples, rays/s, time per pass.
+void draw_stats_section(const ViewModel& model, const PanelState& state);
+
+/// Status line, error banner, help, overwrite question and messages over the image area.
+void draw_image_overlays(ViewModel& model, PanelState& state, const ImageLayout& layout, glm::vec2 window);
+
+/// Saves to the Save field's path, asking before replacing a file (Save button and Ctrl+S).
+void request_save(ViewModel& model, PanelState& state);
+
+/// Shows a passing message for a few seconds.
+void show_message(PanelState& state, const std::string& text);
+
+}  // namespace caustica::ui

@@ -1,0 +1,184 @@
+#include "ui/preview_driver.h"
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+namespace caustica::ui {
+namespace {
+
+double now_seconds() {
+    using clock = std::chrono::steady_clock;
+    return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
+}
+
+bool is_pass(const std::string& stage) {
+    return stage == "preview" || stage == "first samples" || stage == "anti-aliasing";
+}
+
+std::size_t tiles_per_pass(const SessionProgress& p) {
+    return p.passes > 0 ? p.tiles_total / static_cast<std::size_t>(p.passes) : 0;
+}
+
+constexpr std::size_t pass_history_length = 240;
+
+}  // namespace
+
+PreviewDriver::PreviewDriver(DriverSettings settings) : settings_(settings) {}
+
+void PreviewDriver::request(const RenderJob& job) { pending_ = job; }
+
+bool PreviewDriver::first_full_pass_done() const {
+    if (pending_ || !started_) return false;
+    if (progress_.finished) return true;
+    const std::size_t per_pass = tiles_per_pass(progress_);
+    const std::size_t full = per_pass * (settings_.progressive ? 2 : 1);
+    return per_pass > 0 && progress_.tiles_done >= full && progress_.passes >= (settings_.progressive ? 2 : 1);
+}
+
+std::optional<std::string> PreviewDriver::take_error() {
+    std::optional<std::string> e;
+    e.swap(error_);
+    return e;
+}
+
+void PreviewDriver::update() {
+    // Forget the tiles the last update reported; keep those poll() copied since then.
+    changed_.erase(changed_.begin(), changed_.begin() + static_cast<std::ptrdiff_t>(reported_));
+    changed_generations_.erase(changed_generations_.begin(),
+                               changed_generations_.begin() + static_cast<std::ptrdiff_t>(reported_));
+    size_changed_ = false;
+    advance(true);
+    fetch();
+    reported_ = changed_.size();
+    const double now = now_seconds();
+    if (busy() && now - stats_polled_at_ > 0.1) {
+        poll_stats();
+        stats_polled_at_ = now;
+    }
+}
+
+void PreviewDriver::poll() {
+    if (pending_) advance(false);
+}
+
+void PreviewDriver::advance(bool spin) {
+    const double now = now_seconds();
+    progress_ = session_.progress();
+    if (started_ && !collected_ && !progress_.running) collect();
+    if (pending_ && !collected_) {
+        // A render younger than max_preview_wait finishes its coarse preview first, so that the
+        // view keeps up while the camera moves instead of restarting before anything is shown.
+        const std::size_t per_pass = tiles_per_pass(progress_);
+        const bool preview_shown = per_pass > 0 && progress_.tiles_done >= per_pass;
+        if (!cancel_sent_ && (preview_shown || now - started_at_ >= settings_.max_preview_wait_seconds)) {
+            session_.cancel();  // returns at once; the worker stops after its current tile
+            cancel_sent_ = true;
+        }
+        if (cancel_sent_ && spin) {
+            const double deadline = now + settings_.cancel_spin_seconds;
+            while ((progress_ = session_.progress()).running && now_seconds() < deadline)
+                std::this_thread::sleep_for(std::chrono::microseconds(100));
+            if (!progress_.running) collect();
+        }
+    }
+    if (pending_ && collected_) restart();
+}
+
+void PreviewDriver::poll_stats() {
+    stats_ = session_.stats();
+    for (const StageTime& s : stats_.stages) {
+        if (s.cached || is_pass(s.name)) continue;
+        auto it = std::find_if(computed_stages_.begin(), computed_stages_.end(),
+                               [&](const StageTime& c) { return c.name == s.name; });
+        if (it == computed_stages_.end()) computed_stages_.push_back(s);
+        else *it = s;
+    }
+}
+
+void PreviewDriver::collect() {
+    collected_ = true;
+    try {
+        session_.wait();  // the worker has stopped: this only joins it, and rethrows its error
+    } catch (const std::exception& e) {
+        error_ = e.what();
+    }
+    progress_ = session_.progress();
+    poll_stats();
+    // Passes that ran to their end; when the render was cancelled, its last pass was cut short.
+    std::vector<const StageTime*> passes;
+    for (const StageTime& s : stats_.stages)
+        if (is_pass(s.name)) passes.push_back(&s);
+    if (progress_.cancelled && !passes.empty()) passes.pop_back();
+    for (const StageTime* s : passes) {
+        pass_history_.push_back({progress_.generation, s->name, s->seconds});
+        if (pass_history_.size() > pass_history_length) pass_history_.pop_front();
+    }
+    if (progress_.finished) refresh_maps();
+}
+
+void PreviewDriver::refresh_maps() {
+    std::vector<LightProjectionMap> maps = session_.projection_maps();
+    if (same_projection_maps(maps, maps_)) return;
+    maps_ = std::move(maps);
+    ++maps_version_;
+}
+
+void PreviewDriver::restart() {
+    const double t0 = now_seconds();
+    job_ = std::move(*pending_);
+    pending_.reset();
+    try {
+        // The stopped render's last tiles are still the newest: copy them now. From start() on,
+        // every tile published belongs to the new render.
+        fetch();
+        session_.set_progressive(settings_.progressive);
+        session_.set_job(job_);  // the worker has stopped: joining it is immediate
+        session_.start();
+    } catch (const std::exception& e) {
+        error_ = e.what();
+        return;
+    }
+    started_ = true;
+    collected_ = false;
+    cancel_sent_ = false;
+    started_at_ = now_seconds();
+    progress_ = session_.progress();
+    generation_ = progress_.generation;
+    ++restarts_;
+    last_restart_ = started_at_ - t0;
+    longest_restart_ = std::max(longest_restart_, last_restart_);
+}
+
+void PreviewDriver::fetch() {
+    previous_seen_ = seen_;
+    const int width = image_.width, height = image_.height;
+    session_.fetch_tiles(image_, seen_);
+    if (image_.width != width || image_.height != height) {  // a new image: earlier copies are gone
+        size_changed_ = true;
+        changed_.clear();
+        changed_generations_.clear();
+    }
+    if (previous_seen_.size() != seen_.size()) previous_seen_.assign(seen_.size(), 0);
+    for (std::size_t i = 0; i < seen_.size(); ++i)
+        if (seen_[i] != previous_seen_[i]) {
+            changed_.push_back(i);
+            changed_generations_.push_back(generation_);
+        }
+}
+
+bool same_projection_maps(const std::vector<LightProjectionMap>& a, const std::vector<LightProjectionMap>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const ProjectionMap& ma = a[i].map;
+        const ProjectionMap& mb = b[i].map;
+        if (a[i].light_index != b[i].light_index || a[i].light_position != b[i].light_position) return false;
+        if (ma.rows() != mb.rows() || ma.columns() != mb.columns()) return false;
+        for (int r = 0; r < ma.rows(); ++r)
+            for (int c = 0; c < ma.columns(); ++c)
+                if (ma.cell(r, c) != mb.cell(r, c)) return false;
+    }
+    return true;
+}
+
+}  // namespace caustica::ui

@@ -1,0 +1,140 @@
+// Drives a RenderSession for an interactive view without ever waiting for it: a new job cancels
+// the running render and starts once the worker has stopped (a few milliseconds), tiles are
+// copied as they are published, and results (errors, projection maps, stage times) are collected
+// when a render ends. Everything here runs on the UI thread; nothing here knows about GL.
+#pragma once
+
+#include "core/render_session.h"
+
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace caustica::ui {
+
+/// One completed image pass, for the time-per-pass plot.
+struct PassTime {
+    std::uint64_t generation = 0;
+    std::string name;  ///< "preview", "first samples", "anti-aliasing"
+    double seconds = 0.0;
+};
+
+/// Tuning of the restart policy.
+struct DriverSettings {
+    bool progressive = true;               ///< coarse 4 x 4-block pass before the full passes
+    double max_preview_wait_seconds = 0.1; ///< a render younger than this finishes its preview before a newer job replaces it
+    double cancel_spin_seconds = 0.004;    ///< how long update() may wait for a cancelled worker before retrying next frame
+};
+
+/// The non-blocking front of a RenderSession.
+class PreviewDriver {
+public:
+    explicit PreviewDriver(DriverSettings settings = {});
+
+    /// Asks for `job` to be rendered next (the newest request wins).
+    void request(const RenderJob& job);
+
+    /// The per-frame step: restarts when due, copies new tiles, collects ended renders. Never
+    /// waits for a tile; may wait up to cancel_spin_seconds for a cancelled worker to stop.
+    void update();
+
+    /// Between frames: starts a requested job as soon as the cancelled worker has stopped (no
+    /// tile copying, no waiting), so that a restart need not wait for the next frame.
+    void poll();
+
+    /// The image as shown. Tiles are copied only from the newest render started: its last tiles
+    /// just before the next one starts, then only the next one's, so no older tile ever appears.
+    const Image& image() const { return image_; }
+    /// Indices (into tiles()) of the tiles the last update() copied.
+    const std::vector<std::size_t>& changed_tiles() const { return changed_; }
+    /// For each changed tile, the generation (SessionProgress::generation) of the render it came from.
+    const std::vector<std::uint64_t>& changed_generations() const { return changed_generations_; }
+    /// The generation of the newest render started.
+    std::uint64_t generation() const { return generation_; }
+    /// Whether the last update() changed the image size (every tile is then new).
+    bool size_changed() const { return size_changed_; }
+    /// The tile rectangles of the current image.
+    const std::vector<Tile>& tiles() const { return session_.tiles(); }
+
+    /// The progress snapshot taken by the last update().
+    const SessionProgress& progress() const { return progress_; }
+    /// Whether a job has been started.
+    bool has_job() const { return started_; }
+    /// The job of the current (last started) render.
+    const RenderJob& job() const { return job_; }
+    /// Whether a requested job waits for the running render to stop.
+    bool pending() const { return pending_.has_value(); }
+    /// Whether the current render has completed its first full-resolution pass (and nothing is pending).
+    bool first_full_pass_done() const;
+    /// Whether the current render completed every pass (and nothing is pending).
+    bool finished() const { return !pending_ && started_ && collected_ && progress_.finished; }
+    /// Whether the current render is between start and collection.
+    bool busy() const { return started_ && !collected_; }
+
+    /// The error of the last render that failed (scene errors found while preparing), once.
+    std::optional<std::string> take_error();
+
+    /// Projection maps of the last finished render with a photon pass.
+    const std::vector<LightProjectionMap>& projection_maps() const { return maps_; }
+    /// Increments whenever projection_maps() changes content.
+    std::uint64_t maps_version() const { return maps_version_; }
+
+    /// Stage times and counters, refreshed a few times a second and when a render ends.
+    const RenderStats& stats() const { return stats_; }
+    /// Completed passes, oldest first (at most 240).
+    const std::deque<PassTime>& pass_history() const { return pass_history_; }
+    /// Times of the last real (not cached) computation of each preparation stage, by name.
+    const std::vector<StageTime>& computed_stages() const { return computed_stages_; }
+
+    /// The longest time a restart (set_job + start, which join the stopped worker) took so far.
+    /// A restart that changes the image size allocates it (milliseconds at 1280 x 720).
+    double longest_restart_seconds() const { return longest_restart_; }
+    /// The time the last restart took.
+    double last_restart_seconds() const { return last_restart_; }
+    /// How many renders have been started.
+    std::uint64_t restarts() const { return restarts_; }
+
+    /// The session (for pick and stage_counters, which are thread-safe).
+    RenderSession& session() { return session_; }
+    const RenderSession& session() const { return session_; }
+
+private:
+    void advance(bool spin);  // the restart policy: cancel when due, collect, restart
+    void collect();   // the worker has stopped: error, stats, maps, pass times
+    void restart();   // start the pending job
+    void fetch();     // copy the tiles the newest render published since the last copy
+    void refresh_maps();
+    void poll_stats();  // stats_ and computed_stages_ from the session
+
+    DriverSettings settings_;
+    RenderSession session_;
+    RenderJob job_;
+    std::optional<RenderJob> pending_;
+    bool started_ = false, collected_ = true, cancel_sent_ = false;
+    double started_at_ = 0.0, stats_polled_at_ = 0.0;
+    SessionProgress progress_;
+
+    Image image_;
+    std::vector<std::uint64_t> seen_, previous_seen_;
+    std::vector<std::size_t> changed_;
+    std::vector<std::uint64_t> changed_generations_;
+    std::uint64_t generation_ = 0;
+    std::size_t reported_ = 0;  // changed tiles the last update() reported
+    bool size_changed_ = false;
+
+    std::optional<std::string> error_;
+    std::vector<LightProjectionMap> maps_;
+    std::uint64_t maps_version_ = 0;
+    RenderStats stats_;
+    std::deque<PassTime> pass_history_;
+    std::vector<StageTime> computed_stages_;
+    double longest_restart_ = 0.0, last_restart_ = 0.0;
+    std::uint64_t restarts_ = 0;
+};
+
+/// Whether two projection maps have the same cells and light.
+bool same_projection_maps(const std::vector<LightProjectionMap>& a, const std::vector<LightProjectionMap>& b);
+
+}  // namespace caustica::ui

@@ -1,0 +1,63 @@
+// One frame of the preview, the same in the window and headless: mouse and keys (read from
+// ImGui's io, which the platform fills) become model actions, the model advances, new tiles go
+// to the texture, and the panels are built; then the image and overlay are drawn.
+#pragma once
+
+#include "ui/image_layout.h"
+#include "ui/image_view.h"
+#include "ui/overlay_renderer.h"
+#include "ui/panels.h"
+#include "ui/view_model.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace caustica::ui {
+
+/// The preview application on a current GL context with an ImGui context.
+class ViewApp {
+public:
+    /// Creates the GL objects (shaders, texture) on the current context.
+    explicit ViewApp(ViewModel& model);
+    ~ViewApp();
+    ViewApp(const ViewApp&) = delete;
+    ViewApp& operator=(const ViewApp&) = delete;
+
+    /// Builds one frame between ImGui::NewFrame() and ImGui::Render(): input, model update,
+    /// texture upload and panels, for a window of `window` pixels.
+    void frame(glm::vec2 window);
+    /// Draws the image and the overlay into the current framebuffer (before ImGui's draw data).
+    void draw(glm::vec2 window, int framebuffer_width, int framebuffer_height) const;
+
+    /// Opens the first .lua file of a drop on the window.
+    void drop(const std::vector<std::string>& paths);
+    /// Whether the person asked to quit (Ctrl+Q).
+    bool quit_requested() const { return quit_; }
+    /// Whether nothing is being rendered or loaded (the platform may then wait for events).
+    bool idle() const;
+
+    /// The panels' state (to start with the overlay header open, for instance).
+    PanelState& panels() { return state_; }
+    /// Where the image was put in the last frame.
+    const ImageLayout& layout() const { return layout_; }
+    /// The texture side (upload counts).
+    const ImageView& image_view() const { return *image_; }
+
+private:
+    void handle_mouse(glm::vec2 window);
+    void handle_keys();
+    void update_overlay_triangles();
+
+    ViewModel& model_;
+    PanelState state_;
+    std::unique_ptr<ImageView> image_;
+    std::unique_ptr<OverlayRenderer> overlay_;
+    ImageLayout layout_;
+    bool dragging_[3] = {false, false, false};
+    std::uint64_t overlay_version_ = ~std::uint64_t(0);
+    float overlay_scale_ = 0.0f;
+    bool quit_ = false;
+};
+
+}  // namespace caustica::ui

@@ -1,0 +1,112 @@
+#include "ui/view_arguments.h"
+
+#include "core/options.h"
+#include "core/source_location.h"
+
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
+
+namespace caustica::ui {
+namespace {
+
+int parse_int(const std::string& flag, const std::string& text, int lo, int hi) {
+    int value = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
+        throw InputError(flag + " " + text + ": expects a whole number from " + std::to_string(lo) + " to " +
+                         std::to_string(hi));
+    return value;
+}
+
+double parse_double(const std::string& flag, const std::string& text) {
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size())
+        throw InputError(flag + " " + text + ": expects a number");
+    return value;
+}
+
+/// Splits "A<sep>B" into two parts, or throws.
+std::pair<std::string, std::string> split_pair(const std::string& flag, const std::string& text, char sep,
+                                               const char* form) {
+    const auto at = text.find(sep);
+    if (at == std::string::npos || at == 0 || at + 1 == text.size())
+        throw InputError(flag + " " + text + ": expects " + form);
+    return {text.substr(0, at), text.substr(at + 1)};
+}
+
+}  // namespace
+
+ViewArguments parse_view_arguments(const std::vector<std::string>& args) {
+    ViewArguments parsed;
+    std::vector<std::string> tokens;
+    auto value_of = [&](std::size_t& i, const std::string& flag) -> std::string {
+        const std::string& a = args[i];
+        if (a.size() > flag.size() && a[flag.size()] == '=') return a.substr(flag.size() + 1);
+        if (i + 1 >= args.size()) throw InputError(flag + ": expects a value");
+        return args[++i];
+    };
+    auto is = [](const std::string& a, const std::string& flag) {
+        return a == flag || (a.size() > flag.size() && a.compare(0, flag.size() + 1, flag + "=") == 0);
+    };
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "-h" || a == "--help") {
+            parsed.help = true;
+        } else if (is(a, "--frames")) {
+            parsed.frames = parse_int("--frames", value_of(i, "--frames"), 1, 1000000);
+        } else if (is(a, "--snapshot")) {
+            parsed.snapshot = value_of(i, "--snapshot");
+            if (std::filesystem::path(parsed.snapshot).extension() != ".png")
+                throw InputError("--snapshot " + parsed.snapshot + ": the file must end in .png");
+        } else if (a == "--overlay") {
+            parsed.overlay = true;
+        } else if (is(a, "--orbit")) {
+            const std::string v = value_of(i, "--orbit");
+            const auto [yaw, pitch] = split_pair("--orbit", v, ',', "YAW,PITCH in degrees, e.g. 30,-10");
+            parsed.orbit = glm::dvec2(parse_double("--orbit", yaw), parse_double("--orbit", pitch));
+        } else if (a == "--headless") {
+            parsed.headless = true;
+        } else if (a == "--final") {
+            parsed.final_image = true;
+        } else if (is(a, "--size")) {
+            const std::string v = value_of(i, "--size");
+            const auto [w, h] = split_pair("--size", v, 'x', "WIDTHxHEIGHT, e.g. 1280x720");
+            parsed.width = parse_int("--size", w, 320, 8192);
+            parsed.height = parse_int("--size", h, 240, 8192);
+        } else {
+            tokens.push_back(a);
+        }
+    }
+    if (parsed.help) return parsed;
+    std::vector<std::string> positional;
+    Options check;
+    apply_option_tokens(check, tokens, &positional);  // every render option is checked before a window opens
+    if (positional.size() > 1)
+        throw InputError("view: one scene at a time, got '" + positional[0] + "' and '" + positional[1] + "'");
+    if (!positional.empty()) parsed.scene = positional[0];
+    for (const std::string& t : tokens)
+        if (t != parsed.scene) parsed.option_tokens.push_back(t);
+    return parsed;
+}
+
+std::string view_help() {
+    return "usage: caustica view [SCENE.lua] [--frames N] [--snapshot FILE.png] [--overlay] [--orbit YAW,PITCH]\n"
+           "                     [--headless] [--final] [--size WxH] [render options]\n"
+           "\n"
+           "Opens an interactive preview: the ray tracer refines the image in the background while you\n"
+           "orbit the camera and tune the caustics. Press F1 in the window for the keys.\n"
+           "\n"
+           "  --frames N         run N frames (and at least until the first full-resolution pass), then exit\n"
+           "  --snapshot FILE    write the whole window, panels included, to FILE.png before exiting\n"
+           "  --overlay          start with the projection-map overlay on\n"
+           "  --orbit YAW,PITCH  orbit the camera by these degrees before rendering (+yaw: to the camera's\n"
+           "                     right around the target, +pitch: upwards)\n"
+           "  --headless         render the window off-screen with OSMesa (chosen automatically without DISPLAY)\n"
+           "  --final            with --snapshot: wait until every pass (anti-aliasing too) is done\n"
+           "  --size WxH         window size (default 1280x720)\n"
+           "Render options ('caustica render --help') apply over the scene's gr.option calls.\n";
+}
+
+}  // namespace caustica::ui
