@@ -95,6 +95,7 @@ void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const Re
     }
     stage.projection_maps = std::move(pass.maps);
     const auto t0 = std::chrono::steady_clock::now();
+    if (cancel && cancel->load()) return;  // a cancelled pass is thrown away: no tree for it
     if (o.caustic_num_photons > 0) stage.map = std::make_unique<PhotonMap>(std::move(pass.photons));
     stage.tree_seconds = seconds_since(t0);
 }

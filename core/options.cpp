@@ -114,10 +114,11 @@ struct QualityPreset {
 };
 
 constexpr QualityPreset quality_presets[] = {
-    {"draft", "--caustic-num-photons 100000 --caustic-num-neighbours 25 --aa-grid 1 --shadow-grid 2"},
-    {"preview", "--caustic-num-photons 1000000 --caustic-num-neighbours 100 --aa-grid 2 --aa-threshold 0.5 "
+    {"draft", "--caustic-num-photons 1000000 --caustic-num-neighbours 25 --aa-grid 1 --aa-threshold 0.5 "
+              "--shadow-grid 2"},
+    {"preview", "--caustic-num-photons 10000000 --caustic-num-neighbours 25 --aa-grid 2 --aa-threshold 0.5 "
                 "--shadow-grid 3"},
-    {"final", "--caustic-num-photons 10000000 --caustic-num-neighbours 200 --aa-grid 4 --aa-threshold 0.25 "
+    {"final", "--caustic-num-photons 30000000 --caustic-num-neighbours 50 --aa-grid 4 --aa-threshold 0.25 "
               "--shadow-grid 6"},
 };
 

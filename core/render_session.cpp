@@ -114,6 +114,7 @@ void RenderSession::set_stage(const char* name) {
 void RenderSession::prepare() {
     if (!job_.scene) throw InputError("no scene to render");
     prepare_scene();
+    if (cancel_requested_) return;  // the photon pass would be thrown away
     prepare_caustics();
 }
 
@@ -131,7 +132,10 @@ void RenderSession::prepare_scene() {
         scene_.reset();
     }
     textures_.reset();
-    caustics_ = std::make_unique<CausticStage>();  // depends on the geometry
+    {
+        std::lock_guard lock(mutex_);  // projection_maps() may be reading it
+        caustics_ = std::make_unique<CausticStage>();  // depends on the geometry
+    }
     auto scene = std::make_shared<const RenderScene>(*job_.scene, flat);
     textures_ = std::make_unique<TextureSet>(*job_.scene);
     built_geometry_key_ = geometry_key_;
@@ -151,25 +155,36 @@ void RenderSession::prepare_scene() {
 }
 
 void RenderSession::prepare_caustics() {
-    if (!caustics_) caustics_ = std::make_unique<CausticStage>();
     if (caustic_key_ == 0) {  // no photon pass: nothing specular, no photons, or disabled
-        *caustics_ = CausticStage{};
+        std::lock_guard lock(mutex_);
+        caustics_ = std::make_unique<CausticStage>();
+        publish_caustic_stats();
         return;
     }
-    if (caustics_->key == caustic_key_) {
+    if (caustics_ && caustics_->key == caustic_key_) {
         std::lock_guard lock(mutex_);
         stats_.stages.push_back({"photon pass", 0.0, true});
+        publish_caustic_stats();
         return;
     }
     set_stage("shooting photons");
-    build_caustic_stage(*caustics_, *scene_, job_, &cancel_requested_);
-    caustics_->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
-    std::lock_guard lock(mutex_);
+    auto fresh = std::make_unique<CausticStage>();
+    build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_);
+    fresh->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
+    std::lock_guard lock(mutex_);  // published at once: the preview shows maps and counts early
+    caustics_ = std::move(fresh);
     ++counters_.photon_passes;
     stats_.stages.push_back({"projection maps", caustics_->map_seconds, false});
     stats_.stages.push_back({"photon shooting", caustics_->shoot_seconds, false});
     stats_.stages.push_back({"photon k-d tree", caustics_->tree_seconds, false});
     for (const std::string& w : caustics_->warnings) warnings_.push_back(w);
+    publish_caustic_stats();
+}
+
+void RenderSession::publish_caustic_stats() {
+    stats_.caustic_lights = caustics_->lights;
+    stats_.caustic_photons = caustics_->map ? caustics_->map->size() : 0;
+    stats_.caustic_map_bytes = caustics_->map ? caustics_->map->memory_bytes() : 0;
 }
 
 void RenderSession::start() {
@@ -300,7 +315,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     int pass = 0;
     if (progressive_)
         run_pass("preview", pass++, [&](const Tile& tile, RayCounters& c) {
-            render_coarse_tile(context, tile, preview_block, image_, c);
+            render_coarse_tile(context, tile, preview_block_, image_, c);
         });
     if (!cancel_requested_)
         run_pass("first samples", pass++, [&](const Tile& tile, RayCounters& c) {
@@ -317,9 +332,6 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     std::lock_guard lock(mutex_);
     stats_.rays = total;
     stats_.threads = threads;
-    stats_.caustic_lights = caustics_ ? caustics_->lights : std::vector<LightCausticStats>{};
-    stats_.caustic_photons = caustics_ && caustics_->map ? caustics_->map->size() : 0;
-    stats_.caustic_map_bytes = caustics_ && caustics_->map ? caustics_->map->memory_bytes() : 0;
     ++counters_.renders;
 }
 
@@ -340,7 +352,7 @@ bool RenderSession::pick(const Ray& ray, glm::vec3& point) const {
 std::vector<LightProjectionMap> RenderSession::projection_maps() const {
     std::lock_guard lock(mutex_);
     std::vector<LightProjectionMap> maps;
-    if (!caustics_ || running_) return maps;
+    if (!caustics_) return maps;
     for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
         if (!caustics_->projection_maps[l].empty())
             maps.push_back({caustics_->projection_maps[l], caustics_->light_positions[l], static_cast<int>(l)});

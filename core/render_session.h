@@ -50,7 +50,7 @@ struct SessionProgress {
 
 /// Tile edge length in pixels.
 inline constexpr int tile_size = 16;
-/// Block edge of the coarse preview pass (divides tile_size).
+/// Default block edge of the coarse preview pass (divides tile_size).
 inline constexpr int preview_block = 4;
 
 class RenderSession {
@@ -91,12 +91,16 @@ public:
     /// The first surface point along a ray in the last built scene (thread-safe; for picking).
     bool pick(const Ray& ray, glm::vec3& point) const;
 
-    /// Copies of the projection maps of the last photon pass, with their lights (empty while a
-    /// render runs, or when no map was built).
+    /// Copies of the projection maps of the last photon pass, with their lights (published as
+    /// soon as the pass is done; empty when no map was built). Thread-safe.
     std::vector<LightProjectionMap> projection_maps() const;
 
-    /// Renders a coarse preview pass (one sample per 4 x 4 block) before the full passes.
-    void set_progressive(bool on) { progressive_ = on; }
+    /// Renders a coarse preview pass (one sample per `block` x `block` square; block divides
+    /// tile_size) before the full passes.
+    void set_progressive(bool on, int block = preview_block) {
+        progressive_ = on;
+        preview_block_ = block > 0 && tile_size % block == 0 ? block : preview_block;
+    }
 
     /// The tiles of the current image.
     const std::vector<Tile>& tiles() const { return tiles_; }
@@ -119,6 +123,7 @@ private:
     void run();                 // the background thread's body
     void prepare_scene();       // flattening, BVH, textures
     void prepare_caustics();    // projection maps, photons, k-d tree
+    void publish_caustic_stats();  // under mutex_
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
     void set_stage(const char* name);
 
@@ -137,6 +142,7 @@ private:
     std::unique_ptr<std::atomic<std::uint64_t>[]> tile_versions_;
     std::atomic<std::uint64_t> version_counter_{0};
     bool progressive_ = false;
+    int preview_block_ = preview_block;
     std::thread worker_;
     std::atomic<bool> cancel_requested_{false};
     std::atomic<bool> running_{false};

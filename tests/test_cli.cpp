@@ -89,10 +89,10 @@ TEST_F(Cli, HelpListsTheOptions) {
     EXPECT_EQ(run("--help").code, 0);
 }
 
-TEST_F(Cli, ViewSaysItIsNotBuiltYet) {
-    const Result r = run("view scene.lua");
+TEST_F(Cli, ViewRefusesAMissingSceneBeforeOpeningAWindow) {
+    const Result r = run("view missing.lua");
     EXPECT_EQ(r.code, 2);
-    EXPECT_NE(r.output.find("preview"), std::string::npos);
+    EXPECT_NE(r.output.find("no such scene file"), std::string::npos) << r.output;
 }
 
 TEST_F(Cli, RendersAndWritesThePngTheScriptNames) {
