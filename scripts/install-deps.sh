@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(build-essential cmake pkg-config ninja-build libglfw3-dev libimgui-dev libosmesa6-dev
           libglm-dev libpng-dev liblua5.4-dev libembree-dev libtbb-dev libnanoflann-dev
           libtinyobjloader-dev libstb-dev libgtest-dev libbenchmark-dev libcli11-dev xvfb xauth
-          povray)
+          povray gnuplot-nox)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
