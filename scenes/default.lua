@@ -54,7 +54,9 @@ scene:add_child(ring)
 
 -- Caustics need a light with quadratic falloff (c2 > 0): photon energies follow it.
 light = gr.light({-1.1, 0.5, 1.8}, {1.6, 1.6, 1.5}, {0.2, 0, 0.15})
-gr.option('--caustic-num-photons 3000000 --caustic-num-neighbours 100')
+-- The preview preset (10^7 photon directions, N = 25: the knee of the error/time curves in
+-- docs/ACCURACY.md); `caustica render --quality final scenes/default.lua` for a final image.
+gr.option('--quality preview')
 
 gr.render(scene, 'default.png', 512, 512,
           {0, 0.9, 7.5}, {0, -0.17, -1}, {0, 1, 0}, 40,

@@ -18,4 +18,5 @@ TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/ui/session_tests
 echo "== benchmark smoke runs"
 build/bench_render --benchmark_min_time=0.01 --benchmark_filter='nonhier' >/dev/null
 build/bench_preview --changes 3 --frames 30 >/dev/null
+build/trade --quick --out "$(mktemp -d)" | tail -1   # speed against accuracy (docs/ACCURACY.md)
 echo "benchmarks ran"

@@ -23,6 +23,7 @@ bool same_file(const std::string& a, const std::string& b) {
 LoadSettings load_settings(const ModelConfig& config) {
     LoadSettings settings;
     settings.timeout_seconds = config.script_timeout;
+    apply_option_tokens(settings.base_options, config.default_tokens);
     return settings;
 }
 

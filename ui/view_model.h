@@ -21,6 +21,9 @@ namespace caustica::ui {
 
 /// How the model is set up.
 struct ModelConfig {
+    /// What the preview starts from before the scene's gr.option and the command line: the
+    /// `preview` quality preset, chosen at the knee of the error/time curves (docs/ACCURACY.md).
+    std::vector<std::string> default_tokens = {"--quality", "preview"};
     std::vector<std::string> option_tokens;  ///< command-line options; they win over gr.option, as in `render`
     std::string recent_file;                 ///< where the recent list is kept ("" = nowhere)
     DriverSettings driver;

@@ -153,8 +153,10 @@ TEST(Snapshot, ImageRegionMatchesABatchRenderOfTheSameView) {
     ASSERT_TRUE(preview.settle()) << preview.model->error();
     const std::vector<unsigned char> shot = preview.snapshot();
     const std::string reference = preview.folder.file("batch.png");
+    // The preview starts from the `preview` quality preset, then the scene's gr.option (its photon
+    // count), then the command line: the batch render spells out the same sequence.
     const std::string command = std::string(CAUSTICA_BINARY) + " render " + preview.scene + " -o " + reference +
-                                " --reproducible --threads 2 -s";
+                                " --quality preview --caustic-num-photons 2000000 --reproducible --threads 2 -s";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     const Png8 batch = read_png(reference);
     const ImageLayout layout = preview.app->layout();

@@ -175,8 +175,10 @@ TEST(ViewModel, KnobsThePersonSetSurviveAReload) {
     }, 30.0));
     EXPECT_EQ(m.model.knobs().num_neighbours, 42);
     EXPECT_EQ(m.model.orbit_camera().eye(), eye);  // the orbit is kept too
-    m.model.reset_knobs();
-    EXPECT_EQ(m.model.knobs().num_neighbours, 100);
+    m.model.reset_knobs();  // back to the script's value, here the preview preset's default
+    Options preset;
+    apply_option_tokens(preset, {"--quality", "preview"});
+    EXPECT_EQ(m.model.knobs().num_neighbours, preset.caustic_num_neighbours);
 }
 
 TEST(ViewModel, SettingsThatFailToRenderAreTakenBack) {
