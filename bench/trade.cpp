@@ -204,7 +204,7 @@ RenderJob load_lua_job(const ReferenceRecipe& recipe, int threads) {
 ReferenceInfo expected_info(const ReferenceRecipe& recipe) {
     ReferenceInfo info;
     info.scene_file = recipe.script;
-    info.scene_hash = trade::hash_file(source_dir + "/" + recipe.script);
+    info.scene_hash = trade::scene_content_hash(load_lua_job(recipe, 1));
     info.width = recipe.width;
     info.height = recipe.height;
     info.photons = recipe.photons;

@@ -1,5 +1,8 @@
 #include "bench/trade_reference.h"
 
+#include "core/random.h"
+#include "core/render_session.h"
+
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -80,6 +83,27 @@ std::uint64_t hash_file(const std::string& path) {
     const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     std::uint64_t h = 0xcbf29ce484222325ull;
     for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
+    return h;
+}
+
+std::uint64_t scene_content_hash(const caustica::RenderJob& job) {
+    std::uint64_t h = caustica::geometry_fingerprint(job);
+    auto mix = [&h](double v) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        h = caustica::mix64(h ^ (bits + 0x9e3779b97f4a7c15ull));
+    };
+    const caustica::CameraDesc& c = job.camera;
+    for (int i = 0; i < 3; ++i) mix(c.eye[i]), mix(c.view[i]), mix(c.up[i]);
+    mix(c.fovy_degrees);
+    for (int index : job.lights) {
+        const caustica::LightDesc& l = job.scene->lights.at(index);
+        for (int i = 0; i < 3; ++i) mix(l.position[i]), mix(l.colour[i]), mix(l.falloff[i]);
+        mix(l.radius);
+    }
+    mix(job.options.unit_distance);
+    mix(job.options.energy_fudge);
+    mix(job.options.max_depth);
     return h;
 }
 

@@ -2,6 +2,8 @@
 // says what made them, so a reference that no longer matches its scene is detected.
 #pragma once
 
+#include "core/scene_desc.h"
+
 #include "core/image.h"
 
 #include <cstdint>
@@ -12,7 +14,7 @@ namespace caustica::trade {
 /// What a stored reference was rendered from; written beside the image as NAME.txt.
 struct ReferenceInfo {
     std::string scene_file;         ///< relative to the source tree, e.g. scenes/default.lua
-    std::uint64_t scene_hash = 0;   ///< FNV-1a of the scene file's bytes
+    std::uint64_t scene_hash = 0;   ///< scene_content_hash of the scene as the script builds it
     int width = 0, height = 0;
     long long photons = 0;          ///< photon directions per light, per run
     int neighbours = 0;
@@ -31,6 +33,12 @@ Image read_pfm(const std::string& path);
 
 /// FNV-1a 64-bit hash of a file's bytes. Throws std::runtime_error when it cannot be read.
 std::uint64_t hash_file(const std::string& path);
+
+/// What a caustics-only reference depends on: the geometry and materials (geometry_fingerprint),
+/// the camera, the lights, and the options that change photon energies or paths (unit distance,
+/// energy fudge, recursion depth). Not the photon count, N or gather distance (the recipe sets
+/// them), nor comments or image options: editing those does not make a reference stale.
+std::uint64_t scene_content_hash(const caustica::RenderJob& job);
 
 /// Writes `info` as "key = value" lines.
 void write_reference_info(const std::string& path, const ReferenceInfo& info);
