@@ -116,6 +116,36 @@ void BM_EmbreeIntersect8Raw(benchmark::State& state, const std::string& scene_na
     state.SetItemsProcessed(state.iterations() * job.width * job.height);
 }
 
+/// The same primary rays one at a time through rtcIntersect1: what the packet path saves.
+void BM_EmbreeIntersect1Raw(benchmark::State& state, const std::string& scene_name) {
+    const RenderJob& job = course_job(scene_name);
+    ShadingFixture f(job);
+    RTCScene scene = f.scene->embree_scene();
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (auto _ : state) {
+        unsigned hits = 0;
+        for (const Tile& tile : f.tiles)
+            for (int y = tile.y0; y < tile.y1; ++y)
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    const Ray r = f.camera->generate(float(x) + 0.5f, float(y) + 0.5f);
+                    RTCRayHit rh;
+                    rh.ray.org_x = r.origin.x, rh.ray.org_y = r.origin.y, rh.ray.org_z = r.origin.z;
+                    rh.ray.dir_x = r.direction.x, rh.ray.dir_y = r.direction.y, rh.ray.dir_z = r.direction.z;
+                    rh.ray.tnear = 0.0f;
+                    rh.ray.tfar = ray_infinity;
+                    rh.ray.mask = 0xffffffffu;
+                    rh.ray.flags = 0;
+                    rh.ray.time = 0.0f;
+                    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                    rtcIntersect1(scene, &context, &rh);
+                    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+                }
+        benchmark::DoNotOptimize(hits);
+    }
+    state.SetItemsProcessed(state.iterations() * job.width * job.height);
+}
+
 /// A whole render (both passes) through the render session, at `threads` threads.
 void BM_WholeRender(benchmark::State& state, const std::string& scene_name) {
     RenderJob job = course_job(scene_name);
@@ -132,6 +162,8 @@ void BM_WholeRender(benchmark::State& state, const std::string& scene_name) {
 
 BENCHMARK_CAPTURE(BM_PrimaryShading, nonhier, std::string("nonhier.lua"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EmbreeIntersect8Raw, nonhier, std::string("nonhier.lua"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeIntersect1Raw, nonhier, std::string("nonhier.lua"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeIntersect1Raw, macho_cows, std::string("macho-cows.lua"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_PrimaryShading, macho_cows, std::string("macho-cows.lua"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EmbreeIntersect8Raw, macho_cows, std::string("macho-cows.lua"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_WholeRender, macho_cows, std::string("macho-cows.lua"))
