@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian packages caustica needs (see docs/BUILDING.md); does nothing when all are present.
+# Installs the Debian packages caustica needs (build, tests, preview under Xvfb, gnuplot for
+# bench/trade plots, POV-Ray for bench/peers); does nothing when all are present.
 set -euo pipefail
 packages=(build-essential cmake pkg-config ninja-build libglfw3-dev libimgui-dev libosmesa6-dev
           libglm-dev libpng-dev liblua5.4-dev libembree-dev libtbb-dev libnanoflann-dev
