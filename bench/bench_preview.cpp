@@ -89,7 +89,7 @@ void latency(const RenderJob& script_job, int changes, int width, int height) {
     std::printf("\ncamera change at %d x %d (%d changes; %d scene builds and %d photon passes after the first)\n", width,
                 height, changes, after.scene_builds - built.scene_builds, after.photon_passes - built.photon_passes);
     std::printf("  %-46s %8s %8s %8s\n", "", "median", "p90", "max");
-    row("to the first coarse preview (4 x 4 blocks)", summarise(preview), "ms", "target < 50 ms");
+    row("to the first coarse preview (8 x 8 blocks)", summarise(preview), "ms", "target < 50 ms");
     row("to the first full-resolution pass", summarise(full), "ms", "");
     row("restart: set_job + start on the UI thread", summarise(restart), "ms", "");
     std::printf("  %-46s %8.1f ms (the first render allocates the image)\n", "longest restart of the run",

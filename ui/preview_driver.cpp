@@ -132,7 +132,7 @@ void PreviewDriver::restart() {
         // The stopped render's last tiles are still the newest: copy them now. From start() on,
         // every tile published belongs to the new render.
         fetch();
-        session_.set_progressive(settings_.progressive);
+        session_.set_progressive(settings_.progressive, settings_.preview_block);
         session_.set_job(job_);  // the worker has stopped: joining it is immediate
         session_.start();
     } catch (const std::exception& e) {

@@ -23,7 +23,10 @@ struct PassTime {
 
 /// Tuning of the restart policy.
 struct DriverSettings {
-    bool progressive = true;               ///< coarse 4 x 4-block pass before the full passes
+    bool progressive = true;               ///< coarse pass before the full passes
+    /// Edge of the coarse pass's blocks: 8 x 8 samples 1/64 of the pixels, so the first view of a
+    /// camera move keeps up even while software GL shares the two cores (docs/PERFORMANCE.md).
+    int preview_block = 8;
     double max_preview_wait_seconds = 0.1; ///< a render younger than this finishes its preview before a newer job replaces it
     double cancel_spin_seconds = 0.004;    ///< how long update() may wait for a cancelled worker before retrying next frame
 };
