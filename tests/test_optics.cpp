@@ -249,3 +249,41 @@ TEST(SoftShadows, PenumbraFractionAndTheHardSwitch) {
     const float v = hard.light_visibility(light, {0.01f, 0, 0}, random, counters);
     EXPECT_EQ(v, 1.0f);
 }
+
+TEST(Invariance, NestedSolidOfTheSameIndexIsInvisibleThanksToTheMediumStack) {
+    // A glass ball inside a bigger glass ball of the same index, as two separate objects (no CSG):
+    // leaving the inner ball returns the ray to the outer glass (the medium stack), not to air,
+    // so nothing bends or reflects there. A renderer that assumed air outside every solid would
+    // show the inner ball.
+    auto build = [](bool inner) {
+        JobBuilder b(48, 48);
+        const int back = b.add(NodeKind::cube, b.material({0.9, 0.5, 0.2}));
+        b.translate(back, {0, 0, -4});
+        b.scale(back, {6, 6, 0.1});
+        const int stripe = b.add(NodeKind::cube, b.material({0.1, 0.3, 0.9}));
+        b.translate(stripe, {0, 0, -3.8});
+        b.scale(stripe, {0.3, 6, 0.1});
+        MaterialDesc glass;
+        glass.ks = {1, 1, 1};
+        glass.refractive_index = 1.5;
+        b.scene->materials.push_back(glass);
+        const int glass_material = static_cast<int>(b.scene->materials.size()) - 1;
+        b.add(NodeKind::sphere, glass_material);
+        if (inner) {
+            const int small = b.add(NodeKind::sphere, glass_material);
+            b.translate(small, {0.2, 0.1, 0.2});
+            b.scale(small, {0.4, 0.4, 0.4});
+        }
+        b.camera({0, 0, 5}, {0, 0, -1}, 30);
+        b.job.ambient = {1, 1, 1};
+        b.job.options.disable_aa = true;
+        b.job.options.max_depth = 16;
+        return caustica::testing::render(b.build());
+    };
+    const Image one = build(false), nested = build(true);
+    int differing = 0;
+    for (std::size_t i = 0; i < one.pixels.size(); ++i)
+        differing += glm::length(one.pixels[i] - nested.pixels[i]) > 1e-4f;
+    // Only rays that graze the inner surface (reflected inside the outer ball first) may differ.
+    EXPECT_LE(differing, 10);
+}
