@@ -91,10 +91,10 @@ void print_stats(const RenderStats& stats, bool timing, bool statistics) {
         const double seconds = stats.total_seconds > 0 ? stats.total_seconds : 1e-9;
         std::fprintf(stderr, "statistics:\n");
         std::fprintf(stderr, "  threads                %9d\n", stats.threads);
-        std::fprintf(stderr, "  analytic primitives    %9zu\n", stats.analytic_primitives);
+        std::fprintf(stderr, "  analytic primitives    %9zu\n", stats.scene.analytic_primitives);
         std::fprintf(stderr, "  mesh instances         %9zu (%zu meshes, %zu triangles stored, %zu in the world)\n",
-                     stats.mesh_instances, stats.unique_meshes, stats.triangles_stored, stats.triangles_instanced);
-        std::fprintf(stderr, "  CSG objects            %9zu (%zu primitives inside)\n", stats.csg_objects, stats.csg_leaves);
+                     stats.scene.mesh_instances, stats.scene.unique_meshes, stats.scene.triangles_stored, stats.scene.triangles_instanced);
+        std::fprintf(stderr, "  CSG objects            %9zu (%zu primitives inside)\n", stats.scene.csg_objects, stats.scene.csg_leaves);
         std::fprintf(stderr, "  camera samples         %9llu\n", static_cast<unsigned long long>(r.samples));
         std::fprintf(stderr, "  anti-aliased pixels    %9llu\n", static_cast<unsigned long long>(r.supersampled_pixels));
         std::fprintf(stderr, "  rays: primary          %9llu\n", static_cast<unsigned long long>(r.primary));

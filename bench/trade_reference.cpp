@@ -77,22 +77,9 @@ Image read_pfm(const std::string& path) {
     return image;
 }
 
-std::uint64_t hash_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error(path + ": cannot open");
-    const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
-    return h;
-}
-
 std::uint64_t scene_content_hash(const caustica::RenderJob& job) {
     std::uint64_t h = caustica::geometry_fingerprint(job);
-    auto mix = [&h](double v) {
-        std::uint64_t bits;
-        std::memcpy(&bits, &v, sizeof bits);
-        h = caustica::mix64(h ^ (bits + 0x9e3779b97f4a7c15ull));
-    };
+    auto mix = [&h](double v) { h = caustica::hash_double(h, v); };
     const caustica::CameraDesc& c = job.camera;
     for (int i = 0; i < 3; ++i) mix(c.eye[i]), mix(c.view[i]), mix(c.up[i]);
     mix(c.fovy_degrees);

@@ -32,8 +32,6 @@ void write_pfm(const std::string& path, const Image& image);
 Image read_pfm(const std::string& path);
 
 /// FNV-1a 64-bit hash of a file's bytes. Throws std::runtime_error when it cannot be read.
-std::uint64_t hash_file(const std::string& path);
-
 /// What a caustics-only reference depends on: the geometry and materials (geometry_fingerprint),
 /// the camera, the lights, and the options that change photon energies or paths (unit distance,
 /// energy fudge, recursion depth). Not the photon count, N or gather distance (the recipe sets

@@ -4,7 +4,6 @@
 #include "core/source_location.h"
 
 #include <chrono>
-#include <cstring>
 #include <random>
 
 namespace caustica {
@@ -12,12 +11,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::uint64_t mix(std::uint64_t h, double v) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    return mix64(h ^ (bits + 0x9e3779b97f4a7c15ULL));
 }
 
 bool is_specular(const MaterialDesc& m) { return m.reflective || m.refractive_index.has_value() || m.air; }
@@ -46,16 +39,16 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
     const Options& o = job.options;
     std::uint64_t h = mix64(geometry_key ^ 0x63617573746963ULL);
     for (const Light& l : job_lights(job)) {
-        for (int i = 0; i < 3; ++i) h = mix(mix(mix(h, l.position[i]), l.colour[i]), l.falloff[i]);
-        h = mix(h, l.radius);
+        for (int i = 0; i < 3; ++i) h = hash_double(hash_double(hash_double(h, l.position[i]), l.colour[i]), l.falloff[i]);
+        h = hash_double(h, l.radius);
     }
-    h = mix(h, static_cast<double>(o.caustic_num_photons));
-    h = mix(h, o.unit_distance);
-    h = mix(h, o.energy_fudge);
-    h = mix(h, static_cast<double>(o.projection_map) * 1e6 + o.caustic_pm_gran);
-    h = mix(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.draw_caustic_prm ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0));
-    h = mix(h, static_cast<double>(o.seed));
-    h = mix(h, o.max_depth);
+    h = hash_double(h, static_cast<double>(o.caustic_num_photons));
+    h = hash_double(h, o.unit_distance);
+    h = hash_double(h, o.energy_fudge);
+    h = hash_double(h, static_cast<double>(o.projection_map) * 1e6 + o.caustic_pm_gran);
+    h = hash_double(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.draw_caustic_prm ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0));
+    h = hash_double(h, static_cast<double>(o.seed));
+    h = hash_double(h, o.max_depth);
     return h | 1;  // never 0, which means "nothing built"
 }
 

@@ -41,10 +41,4 @@ glm::vec3 PhotonMap::estimate(const glm::vec3& p, const glm::vec3& n, int k, flo
     return sum / ((1.0f - 2.0f / (3.0f * cone_k)) * pi * radius2);
 }
 
-float PhotonMap::nearest_distance(const glm::vec3& p, float max_distance) const {
-    Neighbour nearest;
-    if (tree_.nearest(p, 1, max_distance, &nearest) == 0) return -1.0f;
-    return std::sqrt(nearest.distance2);
-}
-
 }  // namespace caustica

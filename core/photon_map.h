@@ -38,9 +38,6 @@ public:
     glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,
                        Neighbour* scratch) const;
 
-    /// Distance to the nearest photon within max_distance, or a negative value.
-    float nearest_distance(const glm::vec3& p, float max_distance) const;
-
     /// The photon at tree position i.
     const Photon& photon(std::size_t i) const { return photons_[i]; }
     std::size_t size() const { return photons_.size(); }

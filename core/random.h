@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 namespace caustica {
 
@@ -14,6 +15,16 @@ inline std::uint64_t mix64(std::uint64_t x) {
     x *= 0x94d049bb133111ebULL;
     x ^= x >> 31;
     return x;
+}
+
+/// Folds one word into a running hash (fingerprints of what cached stages depend on).
+inline std::uint64_t hash_combine(std::uint64_t h, std::uint64_t v) { return mix64(h ^ (v + 0x9e3779b97f4a7c15ULL)); }
+
+/// Folds the bits of a double into a running hash.
+inline std::uint64_t hash_double(std::uint64_t h, double d) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &d, sizeof bits);
+    return hash_combine(h, bits);
 }
 
 /// A small generator seeded from a key: SplitMix64 stepping, floats from the top 24 bits.

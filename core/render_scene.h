@@ -6,6 +6,7 @@
 #include "core/csg_tree.h"
 #include "core/material.h"
 #include "core/ray.h"
+#include "core/render_stats.h"
 #include "core/scene_flatten.h"
 
 #include <embree3/rtcore.h>
@@ -16,17 +17,6 @@
 #include <vector>
 
 namespace caustica {
-
-/// Counts of what a build produced, for -S.
-struct SceneBuildInfo {
-    std::size_t analytic_primitives = 0;
-    std::size_t mesh_instances = 0;
-    std::size_t unique_meshes = 0;
-    std::size_t triangles_stored = 0;     ///< triangles held once per mesh file
-    std::size_t triangles_instanced = 0;  ///< triangles as seen in the world
-    std::size_t csg_objects = 0;
-    std::size_t csg_leaves = 0;           ///< primitives inside CSG objects
-};
 
 /// Immutable after build; safe to trace from any number of threads.
 class RenderScene {

@@ -22,7 +22,6 @@
 
 #include <chrono>
 #include <algorithm>
-#include <cstring>
 #include <functional>
 #include <random>
 
@@ -44,14 +43,6 @@ public:
         _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
     }
 };
-
-std::uint64_t hash_combine(std::uint64_t h, std::uint64_t v) { return mix64(h ^ (v + 0x9e3779b97f4a7c15ULL)); }
-
-std::uint64_t hash_double(std::uint64_t h, double d) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &d, sizeof bits);
-    return hash_combine(h, bits);
-}
 
 std::uint64_t hash_vec(std::uint64_t h, const glm::dvec3& v) {
     return hash_double(hash_double(hash_double(h, v.x), v.y), v.z);
@@ -144,14 +135,7 @@ void RenderSession::prepare_scene() {
     warnings_ = std::move(flat.warnings);
     ++counters_.scene_builds;
     stats_.stages.push_back({"scene build", now_seconds() - t0, false});
-    const SceneBuildInfo& info = scene_->info();
-    stats_.analytic_primitives = info.analytic_primitives;
-    stats_.mesh_instances = info.mesh_instances;
-    stats_.unique_meshes = info.unique_meshes;
-    stats_.triangles_stored = info.triangles_stored;
-    stats_.triangles_instanced = info.triangles_instanced;
-    stats_.csg_objects = info.csg_objects;
-    stats_.csg_leaves = info.csg_leaves;
+    stats_.scene = scene_->info();
 }
 
 void RenderSession::prepare_caustics() {

@@ -34,6 +34,17 @@ struct StageTime {
     bool cached = false;  ///< reused from a previous render, not recomputed
 };
 
+/// Counts of what a build produced, for -S.
+struct SceneBuildInfo {
+    std::size_t analytic_primitives = 0;
+    std::size_t mesh_instances = 0;
+    std::size_t unique_meshes = 0;
+    std::size_t triangles_stored = 0;     ///< triangles held once per mesh file
+    std::size_t triangles_instanced = 0;  ///< triangles as seen in the world
+    std::size_t csg_objects = 0;
+    std::size_t csg_leaves = 0;           ///< primitives inside CSG objects
+};
+
 /// The caustic photon pass of one light, for -S.
 struct LightCausticStats {
     long long candidates = 0, traced = 0, stored = 0;
@@ -45,9 +56,7 @@ struct LightCausticStats {
 struct RenderStats {
     RayCounters rays;
     std::vector<StageTime> stages;
-    std::size_t analytic_primitives = 0, mesh_instances = 0, unique_meshes = 0;
-    std::size_t triangles_stored = 0, triangles_instanced = 0;
-    std::size_t csg_objects = 0, csg_leaves = 0;
+    SceneBuildInfo scene;                ///< what the last scene build produced
     int threads = 0;
     double total_seconds = 0.0;
     std::vector<LightCausticStats> caustic_lights;
