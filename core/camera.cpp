@@ -4,9 +4,19 @@
 
 namespace caustica {
 
+namespace {
+
+/// `v` at unit length, scaled down first so that a huge or tiny vector normalises exactly.
+glm::dvec3 unit(const glm::dvec3& v) {
+    const double m = std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+    return m > 0.0 ? glm::normalize(v / m) : v;
+}
+
+}  // namespace
+
 Camera::Camera(const CameraDesc& desc, int width, int height) : width_(width), height_(height) {
-    const glm::dvec3 forward = glm::normalize(desc.view);
-    const glm::dvec3 right = glm::normalize(glm::cross(forward, desc.up));
+    const glm::dvec3 forward = unit(desc.view);
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, unit(desc.up)));
     const glm::dvec3 up = glm::cross(right, forward);
     eye_ = glm::vec3(desc.eye);
     forward_ = glm::vec3(forward);

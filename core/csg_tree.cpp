@@ -1,5 +1,7 @@
 #include "core/csg_tree.h"
 
+#include "core/ray.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -83,6 +85,7 @@ void mesh_leaf_segments(const CsgLeaf& leaf, int leaf_index, const glm::vec3& o,
     const float start = box_in - 2.0f * step;
     const glm::vec3 origin = oo + start * dd;
     const float span = box_out + 2.0f * step - start;
+    if (!embree_traceable(origin, dd, 0.0f, span)) return;  // numerically out of reach: no crossings
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     int depth = 0, last_kind = 0;
@@ -157,7 +160,58 @@ CsgTree::CsgTree(const FlatCsgObject& object, const SceneDesc& desc, int default
 
 bool CsgTree::empty() const { return box_is_empty(lo(), hi()); }
 
-int CsgTree::build(const FlatCsgObject& object, int flat_index) {
+int CsgTree::build(const FlatCsgObject& object, int flat_root) {
+    using Kind = FlatCsgNode::Kind;
+    // Post-order over the flat tree with an explicit stack: a script can nest operations as deeply
+    // as it likes. A frame's operands are its two children, or for a union all the non-union
+    // nodes of the union chain below it, in order.
+    struct Frame {
+        int flat;
+        std::vector<int> operands;  // flat nodes still to build, in order
+        std::size_t next = 0;
+        std::vector<int> built;     // their tree nodes
+    };
+    std::vector<Frame> stack;
+    auto open = [&](int flat_index) {
+        Frame frame{flat_index, {}, 0, {}};
+        const FlatCsgNode& flat = object.nodes.at(static_cast<std::size_t>(flat_index));
+        if (flat.kind == Kind::unite) {
+            // Union is associative, media included (the later operand wins either way), so a chain
+            // such as u = union(u, x) in a script loop is rebuilt balanced for its boxes.
+            std::vector<int> pending{flat_index};
+            while (!pending.empty()) {
+                const int i = pending.back();
+                pending.pop_back();
+                const FlatCsgNode& n = object.nodes.at(static_cast<std::size_t>(i));
+                if (n.kind == Kind::unite) {
+                    pending.push_back(n.right);
+                    pending.push_back(n.left);
+                } else {
+                    frame.operands.push_back(i);
+                }
+            }
+        } else if (flat.kind != Kind::leaf) {
+            frame.operands = {flat.left, flat.right};
+        }
+        stack.push_back(std::move(frame));
+    };
+    int result = -1;
+    open(flat_root);
+    while (!stack.empty()) {
+        Frame& top = stack.back();
+        if (top.next < top.operands.size()) {
+            open(top.operands[top.next++]);  // invalidates `top`
+            continue;
+        }
+        const int built = finish_node(object, top.flat, top.built);
+        stack.pop_back();
+        if (stack.empty()) result = built;
+        else stack.back().built.push_back(built);
+    }
+    return result;
+}
+
+int CsgTree::finish_node(const FlatCsgObject& object, int flat_index, const std::vector<int>& operands) {
     using Kind = FlatCsgNode::Kind;
     const FlatCsgNode& flat = object.nodes.at(static_cast<std::size_t>(flat_index));
     Node node;
@@ -167,40 +221,27 @@ int CsgTree::build(const FlatCsgObject& object, int flat_index) {
         node.lo = leaves_[static_cast<std::size_t>(flat.leaf)].lo;
         node.hi = leaves_[static_cast<std::size_t>(flat.leaf)].hi;
     } else if (flat.kind == Kind::unite) {
-        // Union is associative, media included (the later operand wins either way), so a chain
-        // such as u = union(u, x) in a script loop is rebuilt balanced for its boxes.
-        std::vector<int> operands, stack{flat_index};
-        while (!stack.empty()) {
-            const int i = stack.back();
-            stack.pop_back();
-            const FlatCsgNode& n = object.nodes.at(static_cast<std::size_t>(i));
-            if (n.kind == Kind::unite) {
-                stack.push_back(n.right);
-                stack.push_back(n.left);
-            } else {
-                operands.push_back(build(object, i));
-            }
-        }
-        while (operands.size() > 1) {  // pair neighbours level by level, keeping their order
-            std::vector<int> level;
-            for (std::size_t i = 0; i + 1 < operands.size(); i += 2) {
+        std::vector<int> level = operands;
+        while (level.size() > 1) {  // pair neighbours level by level, keeping their order
+            std::vector<int> next;
+            for (std::size_t i = 0; i + 1 < level.size(); i += 2) {
                 Node u;
                 u.kind = Kind::unite;
-                u.left = operands[i];
-                u.right = operands[i + 1];
+                u.left = level[i];
+                u.right = level[i + 1];
                 u.lo = glm::min(nodes_[static_cast<std::size_t>(u.left)].lo, nodes_[static_cast<std::size_t>(u.right)].lo);
                 u.hi = glm::max(nodes_[static_cast<std::size_t>(u.left)].hi, nodes_[static_cast<std::size_t>(u.right)].hi);
                 u.empty_box = box_is_empty(u.lo, u.hi);
                 nodes_.push_back(u);
-                level.push_back(static_cast<int>(nodes_.size()) - 1);
+                next.push_back(static_cast<int>(nodes_.size()) - 1);
             }
-            if (operands.size() % 2 == 1) level.push_back(operands.back());
-            operands = std::move(level);
+            if (level.size() % 2 == 1) next.push_back(level.back());
+            level = std::move(next);
         }
-        return operands.front();
+        return level.front();
     } else {
-        node.left = build(object, flat.left);
-        node.right = build(object, flat.right);
+        node.left = operands[0];
+        node.right = operands[1];
         const Node& l = nodes_[static_cast<std::size_t>(node.left)];
         const Node& r = nodes_[static_cast<std::size_t>(node.right)];
         node.lo = l.lo;
@@ -218,11 +259,154 @@ int CsgTree::build(const FlatCsgObject& object, int flat_index) {
 void CsgTree::evaluate(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& out) const {
     const float pad = 2.0f * epsilon_ / std::max(glm::length(d), 1e-30f);
     const LineQuery q{o, d, safe_reciprocal(d), tnear - pad, tfar + pad};
-    if (!worth_visiting(root_, q)) {
+    out.clear();
+    if (!worth_visiting(root_, q)) return;
+    evaluate_node(root_, q, out, 0);
+}
+
+CsgTree::Plan CsgTree::plan(const Node& node, const LineQuery& q) const {
+    // The children's boxes decide what is evaluated at all: an operand the line misses is empty,
+    // so a union is the other operand's list and a difference the first operand's.
+    const bool left_seen = worth_visiting(node.left, q), right_seen = worth_visiting(node.right, q);
+    const bool empty = node.kind == FlatCsgNode::Kind::unite
+                           ? !left_seen && !right_seen
+                           : !left_seen || (node.kind == FlatCsgNode::Kind::intersect && !right_seen);
+    if (empty) return Plan::nothing;
+    if (!right_seen) return Plan::left_only;
+    if (!left_seen) return Plan::right_only;
+    return Plan::both;
+}
+
+void CsgTree::combine(const Node& node, const CsgSegmentList& left, const CsgSegmentList& right,
+                      CsgSegmentList& out) const {
+    switch (node.kind) {
+        case FlatCsgNode::Kind::unite: csg_union(left, right, epsilon_, out); return;
+        case FlatCsgNode::Kind::intersect: csg_intersection(left, right, epsilon_, out); return;
+        case FlatCsgNode::Kind::subtract: csg_difference(left, right, epsilon_, out); return;
+        case FlatCsgNode::Kind::leaf: return;
+    }
+}
+
+void CsgTree::evaluate_node(int index, const LineQuery& q, CsgSegmentList& out, int depth) const {
+    // Recursion is the fastest walk for the shallow trees of real scenes (unions are balanced at
+    // build); a subtree deeper than this goes to the explicit stack, so no script can exhaust
+    // the C stack (a frame holds two lists: about 1.2 KiB).
+    constexpr int max_recursion = 48;
+    if (depth >= max_recursion) {
+        evaluate_deep(index, q, out);
+        return;
+    }
+    const Node& node = nodes_[static_cast<std::size_t>(index)];
+    if (node.kind == FlatCsgNode::Kind::leaf) {
+        leaf_segments(node.leaf, q, out);
+        return;
+    }
+    switch (plan(node, q)) {
+        case Plan::nothing: out.clear(); return;
+        case Plan::left_only: evaluate_node(node.left, q, out, depth + 1); return;
+        case Plan::right_only: evaluate_node(node.right, q, out, depth + 1); return;
+        case Plan::both: break;
+    }
+    CsgSegmentList left;
+    evaluate_node(node.left, q, left, depth + 1);
+    if (left.empty() && node.kind != FlatCsgNode::Kind::unite) {
         out.clear();
         return;
     }
-    evaluate_node(root_, q, out);
+    CsgSegmentList right;
+    evaluate_node(node.right, q, right, depth + 1);
+    combine(node, left, right, out);
+}
+
+namespace {
+
+/// Per-thread working storage of CsgTree::evaluate_deep: the pending nodes, a pool of interval
+/// lists and the stack of results (pool slots). Kept between calls, so that evaluation allocates
+/// nothing once warmed up, and results move by slot number instead of being copied.
+struct CsgWorkspace {
+    struct Step {
+        int node;
+        int stage;  // 0 = not started, 1 = left operand evaluated, 2 = both evaluated
+    };
+    std::vector<Step> steps;
+    std::vector<CsgSegmentList> pool;
+    std::vector<int> free_slots;
+    std::vector<int> results;
+
+    /// An empty list's slot (the pool may grow: take references only after this).
+    int take() {
+        if (free_slots.empty()) {
+            pool.emplace_back();
+            return static_cast<int>(pool.size()) - 1;
+        }
+        const int slot = free_slots.back();
+        free_slots.pop_back();
+        pool[static_cast<std::size_t>(slot)].clear();
+        return slot;
+    }
+    void give_back(int slot) { free_slots.push_back(slot); }
+    CsgSegmentList& list(int slot) { return pool[static_cast<std::size_t>(slot)]; }
+};
+
+thread_local CsgWorkspace csg_workspace;
+
+}  // namespace
+
+void CsgTree::evaluate_deep(int index, const LineQuery& q, CsgSegmentList& out) const {
+    using Kind = FlatCsgNode::Kind;
+    // evaluate_node's walk with an explicit stack: each node leaves its interval list on the
+    // result stack; an operation replaces its operands' two lists by their combination.
+    CsgWorkspace& w = csg_workspace;
+    const std::size_t base_steps = w.steps.size(), base_results = w.results.size();
+    w.steps.push_back({index, 0});
+    while (w.steps.size() > base_steps) {
+        const CsgWorkspace::Step step = w.steps.back();
+        const Node& node = nodes_[static_cast<std::size_t>(step.node)];
+        if (node.kind == Kind::leaf) {
+            w.steps.pop_back();
+            const int slot = w.take();
+            leaf_segments(node.leaf, q, w.list(slot));
+            w.results.push_back(slot);
+            continue;
+        }
+        if (step.stage == 0) {
+            switch (plan(node, q)) {
+                case Plan::nothing:
+                    w.steps.pop_back();
+                    w.results.push_back(w.take());
+                    break;
+                case Plan::left_only: w.steps.back() = {node.left, 0}; break;  // this node is its operand
+                case Plan::right_only: w.steps.back() = {node.right, 0}; break;
+                case Plan::both:
+                    w.steps.back().stage = 1;
+                    w.steps.push_back({node.left, 0});
+                    break;
+            }
+            continue;
+        }
+        if (step.stage == 1) {
+            if (w.list(w.results.back()).empty() && node.kind != Kind::unite) {
+                w.steps.pop_back();  // nothing to intersect or subtract from: the empty list stands
+            } else {
+                w.steps.back().stage = 2;
+                w.steps.push_back({node.right, 0});
+            }
+            continue;
+        }
+        w.steps.pop_back();
+        const int right = w.results.back();
+        w.results.pop_back();
+        const int left = w.results.back();
+        const int result = w.take();  // the pool may grow: references after this
+        combine(node, w.list(left), w.list(right), w.list(result));
+        w.give_back(left);
+        w.give_back(right);
+        w.results.back() = result;
+    }
+    const int root = w.results.back();
+    w.results.resize(base_results);
+    out = w.list(root);
+    w.give_back(root);
 }
 
 bool CsgTree::first_boundary(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& list,
@@ -235,42 +419,6 @@ bool CsgTree::worth_visiting(int index, const LineQuery& q) const {
     if (!use_boxes_) return true;
     const Node& node = nodes_[static_cast<std::size_t>(index)];
     return !node.empty_box && box_meets_range(node.lo, node.hi, q.o, q.inv_d, q.range_lo, q.range_hi);
-}
-
-void CsgTree::evaluate_node(int index, const LineQuery& q, CsgSegmentList& out) const {
-    using Kind = FlatCsgNode::Kind;
-    const Node& node = nodes_[static_cast<std::size_t>(index)];
-    if (node.kind == Kind::leaf) {
-        leaf_segments(node.leaf, q, out);
-        return;
-    }
-    // The children's boxes decide what is evaluated at all: an operand the line misses is
-    // empty, so a union is the other operand's list and a difference the first operand's.
-    const bool left_seen = worth_visiting(node.left, q), right_seen = worth_visiting(node.right, q);
-    const bool empty = node.kind == Kind::unite ? !left_seen && !right_seen
-                                                : !left_seen || (node.kind == Kind::intersect && !right_seen);
-    if (empty) {
-        out.clear();
-        return;
-    }
-    if (!right_seen || !left_seen) {  // a union or difference with one operand out of the way
-        evaluate_node(left_seen ? node.left : node.right, q, out);
-        return;
-    }
-    CsgSegmentList left;
-    evaluate_node(node.left, q, left);
-    if (left.empty() && node.kind != Kind::unite) {
-        out.clear();
-        return;
-    }
-    CsgSegmentList right;
-    evaluate_node(node.right, q, right);
-    switch (node.kind) {
-        case Kind::unite: csg_union(left, right, epsilon_, out); return;
-        case Kind::intersect: csg_intersection(left, right, epsilon_, out); return;
-        case Kind::subtract: csg_difference(left, right, epsilon_, out); return;
-        case Kind::leaf: return;
-    }
 }
 
 void CsgTree::leaf_segments(int leaf_index, const LineQuery& q, CsgSegmentList& out) const {

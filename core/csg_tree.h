@@ -90,11 +90,22 @@ private:
         float range_lo, range_hi;  // box tests only look for overlap with this range of t
     };
 
-    int build(const FlatCsgObject& object, int flat_index);
+    /// Builds the tree nodes of the flat tree under `flat_root` (iteratively); returns the root.
+    int build(const FlatCsgObject& object, int flat_root);
+    /// Makes the tree node of one flat node whose operands are already built.
+    int finish_node(const FlatCsgObject& object, int flat_index, const std::vector<int>& operands);
+    /// Which operands of an operation node the line can meet.
+    enum class Plan { nothing, left_only, right_only, both };
     /// Whether the line meets the node's box within the query's range (always, with boxes off).
     bool worth_visiting(int index, const LineQuery& q) const;
-    /// The node's list; its own box has already been tested by the caller.
-    void evaluate_node(int index, const LineQuery& q, CsgSegmentList& out) const;
+    Plan plan(const Node& node, const LineQuery& q) const;
+    /// The operation of `node` applied to its operands' lists.
+    void combine(const Node& node, const CsgSegmentList& left, const CsgSegmentList& right, CsgSegmentList& out) const;
+    /// The node's list; its own box has already been tested by the caller. Recursive up to a
+    /// small depth, then evaluate_deep.
+    void evaluate_node(int index, const LineQuery& q, CsgSegmentList& out, int depth) const;
+    /// The same walk with an explicit stack: any depth.
+    void evaluate_deep(int index, const LineQuery& q, CsgSegmentList& out) const;
     void leaf_segments(int leaf_index, const LineQuery& q, CsgSegmentList& out) const;
 
     std::vector<Node> nodes_;

@@ -1,6 +1,7 @@
 #include "core/integrator.h"
 
 #include "core/optics.h"
+#include "core/radiance_range.h"
 
 #include <algorithm>
 #include <chrono>
@@ -92,8 +93,9 @@ glm::vec3 Integrator::trace(const Ray& ray, const PathState& path, RandomStream&
         const Material& m = setup_.scene->materials()[medium];
         transmittance = medium_transmittance(m.medium_colour, found ? hit.t : ray_infinity, setup_.unit_distance);
     }
-    if (!found) return transmittance * background(ray.direction);
-    return transmittance * shade(ray, hit, path, random, counters);
+    // Saturated (radiance_range.h): the caller multiplies the result by a colour of up to 1e6.
+    if (!found) return saturate(transmittance * background(ray.direction));
+    return saturate(transmittance * shade(ray, hit, path, random, counters));
 }
 
 float Integrator::light_visibility(const Light& light, const glm::vec3& point, RandomStream& random,
@@ -119,6 +121,10 @@ float Integrator::light_visibility(const Light& light, const glm::vec3& point, R
             const glm::vec3 target = light.position + light.radius * (disc.x * u + disc.y * v);
             const glm::vec3 d = target - point;
             const float length = glm::length(d);
+            if (!(length > 0.0f)) {  // the point is the sample itself: nothing in between
+                ++visible;
+                continue;
+            }
             ++counters.shadow;
             visible += !setup_.scene->occluded(Ray{point, d / length, eps, length - eps});
         }
@@ -147,7 +153,7 @@ glm::vec3 Integrator::direct_light(const Material& m, const glm::vec3& kd, const
         if (lit == glm::vec3(0.0f)) continue;
         const float known = known_visibility && l < packet_lights ? known_visibility[l] : -1.0f;
         const float visibility = known >= 0.0f ? known : light_visibility(light, hit.position, random, counters);
-        if (visibility > 0.0f) colour += visibility * light.colour * lit * light.attenuation(distance);
+        if (visibility > 0.0f) colour = saturate(colour + visibility * light.colour * lit * light.attenuation(distance));
     }
     return colour;
 }
@@ -168,7 +174,7 @@ glm::vec3 Integrator::shade(const Ray& ray, const SurfaceHit& hit, const PathSta
         glm::vec3 colour = m.air || setup_.draw_caustics_only
                                ? glm::vec3(0.0f)
                                : direct_light(m, kd, hit, n, to_eye, false, path.known_visibility, random, counters);
-        return colour + dielectric(ray, hit, m, n, path, random, counters);
+        return saturate(colour + dielectric(ray, hit, m, n, path, random, counters));
     }
     glm::vec3 colour = setup_.draw_caustics_only
                            ? glm::vec3(0.0f)
@@ -180,14 +186,14 @@ glm::vec3 Integrator::shade(const Ray& ray, const SurfaceHit& hit, const PathSta
         PathState next = path;
         next.depth += 1;
         next.known_visibility = nullptr;
-        next.weight = path.weight * m.ks;
+        next.weight = path.weight * glm::min(m.ks, glm::vec3(1.0f));
         if (max_component(next.weight) >= setup_.min_weight) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), setup_.scene->epsilon(), ray_infinity};
             colour += m.ks * trace(reflected, next, random, counters);
         }
     }
-    return colour;
+    return saturate(colour);
 }
 
 glm::vec3 Integrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
@@ -201,7 +207,7 @@ glm::vec3 Integrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n
                                                               scratch.data());
     counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++counters.gathers;
-    return kd * irradiance;
+    return kd * saturate(irradiance);  // a disc of tiny radius can make the estimate overflow
 }
 
 glm::vec3 Integrator::debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const {
@@ -239,7 +245,7 @@ glm::vec3 Integrator::dielectric(const Ray& ray, const SurfaceHit& hit, const Ma
     next.depth += 1;
     next.known_visibility = nullptr;
     if (reflectance > 0.0f) {
-        next.weight = path.weight * specular * reflectance;
+        next.weight = path.weight * glm::min(specular, glm::vec3(1.0f)) * reflectance;
         if (max_component(next.weight) >= setup_.min_weight) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
@@ -248,7 +254,7 @@ glm::vec3 Integrator::dielectric(const Ray& ray, const SurfaceHit& hit, const Ma
     }
     glm::vec3 direction;
     if (reflectance < 1.0f && refract_direction(ray.direction, n, n1, n2, direction)) {
-        next.weight = path.weight * specular * (1.0f - reflectance);
+        next.weight = path.weight * glm::min(specular, glm::vec3(1.0f)) * (1.0f - reflectance);
         next.media = media.after;
         if (max_component(next.weight) >= setup_.min_weight) {
             ++counters.refracted;

@@ -80,6 +80,10 @@ private:
     /// The state a ray path carries down the recursion.
     struct PathState {
         int depth = 0;
+        /// Throughput deciding the min-weight cut. Each bounce's factor counts at most 1 (ks above
+        /// 1 included), so that the weights of the paths alive at a depth sum to at most 1 and
+        /// no more than 1 / min_weight of them are traced: ks = 1e6 glass cannot make the
+        /// reflection/refraction tree grow as 2^depth.
         glm::vec3 weight{1.0f};
         MediumStack media;
         const float* known_visibility = nullptr;  ///< per light, from packets; primary hits only

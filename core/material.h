@@ -1,6 +1,7 @@
 // Materials as the renderer uses them (resolved from MaterialDesc).
 #pragma once
 
+#include "core/radiance_range.h"
 #include "core/scene_desc.h"
 
 #include <glm/glm.hpp>
@@ -37,9 +38,11 @@ struct Light {
     glm::vec3 position{0.0f}, colour{0.0f}, falloff{1.0f, 0.0f, 0.0f};
     float radius = 0.0f;
 
-    /// The course's attenuation: 1 / (c0 + c1 d + c2 d^2).
+    /// The course's attenuation: 1 / (c0 + c1 d + c2 d^2), at most max_attenuation (a point a hair
+    /// from a light without constant term, or a denominator that underflows to 0).
     float attenuation(float distance) const {
-        return 1.0f / (falloff.x + falloff.y * distance + falloff.z * distance * distance);
+        const float denominator = falloff.x + falloff.y * distance + falloff.z * distance * distance;
+        return denominator > 1.0f / max_attenuation ? 1.0f / denominator : max_attenuation;
     }
 };
 

@@ -30,7 +30,8 @@ std::string format_double(double v) {
     return s.str();
 }
 
-long long parse_integer(const std::string& name, const std::string& text, long long lo, long long hi) {
+long long parse_integer(const std::string& name, const std::string& text, long long lo, long long hi,
+                        const char* why = nullptr) {
     long long v = 0;
     // Accept plain integers and exact scientific forms like 1e6.
     auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
@@ -44,7 +45,7 @@ long long parse_integer(const std::string& name, const std::string& text, long l
     }
     if (v < lo || v > hi)
         throw InputError("--" + name + ": " + text + " is out of range [" + std::to_string(lo) + ", " +
-                         std::to_string(hi) + "]");
+                         std::to_string(hi) + "]" + (why ? std::string(": ") + why : std::string()));
     return v;
 }
 
@@ -66,13 +67,14 @@ OptionSpec flag(std::string name, char short_name, const char* group, const char
             [member](const Options& o) { return std::string(o.*member ? "on" : "off"); }};
 }
 
+/// An integer option in [lo, hi]; `why` (optional) says in the range error what the bound protects.
 template <typename Int>
 OptionSpec integer(std::string name, char short_name, const char* group, const char* help, Int Options::*member,
-                   long long lo, long long hi) {
+                   long long lo, long long hi, const char* why = nullptr) {
     std::string n = name;
     return {std::move(name), short_name, "N", group, help,
-            [member, n, lo, hi](Options& o, const std::string& v) {
-                o.*member = static_cast<Int>(parse_integer(n, v, lo, hi));
+            [member, n, lo, hi, why](Options& o, const std::string& v) {
+                o.*member = static_cast<Int>(parse_integer(n, v, lo, hi, why));
             },
             [member](const Options& o) { return std::to_string(o.*member); }};
 }
@@ -148,7 +150,6 @@ std::string matching_quality_preset(const Options& o) {
 }
 
 const std::vector<OptionSpec>& option_table() {
-    constexpr long long int_max = std::numeric_limits<int>::max();
     constexpr double huge = 1e30;
     static const std::vector<OptionSpec> table = {
         flag("a4", 0, "conventions", "course (CS488 A4) conventions: transforms in call order, unit cube [0,1]^3",
@@ -189,12 +190,18 @@ const std::vector<OptionSpec>& option_table() {
         resolution("hires", "render at 1024 x 1024", 1024),
         real("script-timeout", "scene", "seconds the scene script may run (0 = no limit)", &Options::script_timeout,
              0.0, 1e7),
+        integer("script-memory", 0, "scene",
+                "MiB the scene script may use: Lua heap, scene data, meshes and decoded images (0 = no limit)",
+                &Options::script_memory_mib, 0, 1 << 20),
         integer("caustic-num-photons", 0, "caustics", "photons shot per light for the caustic map (0 = off)",
                 &Options::caustic_num_photons, 0, 100'000'000'000LL),
         integer("caustic-num-neighbours", 0, "caustics", "photons in each radiance estimate",
-                &Options::caustic_num_neighbours, 1, int_max),
+                &Options::caustic_num_neighbours, 1, 1'000'000,
+                "every render thread keeps a search buffer of N photons (8 bytes each), and an estimate "
+                "over more than a million photons is a blur"),
         integer("caustic-pm-gran", 0, "caustics", "projection-map resolution (cells per half turn)",
-                &Options::caustic_pm_gran, 2, 8192),
+                &Options::caustic_pm_gran, 2, 4096,
+                "each light's map holds 2 G^2 cells (one byte and one ray each: 33.5 million at 4096)"),
         real("caustic-max-dist", "caustics", "maximum gather distance (default 0.15 x unit distance)",
              &Options::caustic_max_dist, 0.0, huge, true),
         {"projection-map", 0, "MODE", "caustics", "auto|on|off: use light projection maps when shooting photons",

@@ -50,6 +50,7 @@ struct Options {
     int max_depth = 8;             ///< recursion limit for reflection/refraction
     double min_weight = 1e-3;      ///< stop a ray path when its weight falls below this
     double script_timeout = 60.0;  ///< seconds of script evaluation, 0 = none
+    long long script_memory_mib = 2048;  ///< budget of the script (Lua heap + what it makes C++ hold), 0 = none
     long long seed = 0;            ///< base of the random streams
 
     /// The maximum photon gather distance in effect (resolves the "0.15 x unit distance" default).

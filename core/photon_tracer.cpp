@@ -1,7 +1,9 @@
 #include "core/photon_tracer.h"
 
+#include "core/denormals.h"
 #include "core/medium_stack.h"
 #include "core/optics.h"
+#include "core/radiance_range.h"
 #include "core/random.h"
 #include "core/source_location.h"
 
@@ -54,7 +56,7 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
         SurfaceHit hit;
         if (!scene.intersect(ray, hit)) return;
         if (const int medium = media.top(); medium >= 0)
-            power *= medium_transmittance(materials[medium].medium_colour, hit.t, unit_distance);
+            power = saturate(power * medium_transmittance(materials[medium].medium_colour, hit.t, unit_distance));
         const Material& m = materials[hit.material];
         // A diffuse surface reached after a specular interaction stores the photon (an L S+ D
         // path); its incident power is kept, kd is applied when the estimate is shaded.
@@ -66,7 +68,7 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
         const float xi = random.uniform();
         if (xi < odds.diffuse || xi >= odds.diffuse + odds.specular) return;
         const glm::vec3 ks = m.air ? glm::vec3(1.0f) : m.ks;
-        power *= ks / odds.specular;
+        power = saturate(power * (ks / odds.specular));  // ks / odds.specular is at most 3
         const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
         ++specular_bounces;
         if (!m.transparent) {
@@ -91,7 +93,9 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
 
 glm::vec3 photon_energy(const Light& light, double unit_distance, long long photons, double fudge) {
     const double scale = 4.0 * pi * unit_distance * unit_distance / (light.falloff.z * static_cast<double>(photons));
-    return glm::vec3(light.colour) * static_cast<float>(scale * fudge);
+    // scene_validate refuses powers above max_photon_power; the cap keeps the float cast defined.
+    const double power = std::fmin(scale * fudge, static_cast<double>(max_radiance));
+    return saturate(glm::vec3(light.colour) * static_cast<float>(power));
 }
 
 RouletteOdds roulette_odds(const Material& m) {
@@ -171,6 +175,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         RandomStream rotation_stream(settings.seed, 0x70686f746f6e ^ l, 7);
         const float rotate_u = rotation_stream.uniform(), rotate_v = rotation_stream.uniform();
         tbb::parallel_for(tbb::blocked_range<long long>(0, blocks, 1), [&](const tbb::blocked_range<long long>& r) {
+            const ScopedFlushDenormals flush;
             for (long long b = r.begin(); b != r.end(); ++b) {
                 if (cancel && cancel->load(std::memory_order_relaxed)) return;
                 const long long begin = b * block_size, end = std::min(count, (b + 1) * block_size);

@@ -1,5 +1,7 @@
 #include "core/projection_map.h"
 
+#include "core/denormals.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -43,6 +45,7 @@ void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light) {
     std::vector<std::uint8_t> hits(cells_.size(), 0);
     const auto& materials = scene.materials();
     tbb::parallel_for(tbb::blocked_range<int>(0, rows_), [&](const tbb::blocked_range<int>& range) {
+        const ScopedFlushDenormals flush;
         for (int row = range.begin(); row != range.end(); ++row)
             for (int column = 0; column < columns_; ++column) {
                 SurfaceHit hit;

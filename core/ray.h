@@ -3,6 +3,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <limits>
 
 namespace caustica {
@@ -16,6 +17,24 @@ struct Ray {
     float tmin = 0.0f;
     float tmax = ray_infinity;
 };
+
+/// Largest |component| of a ray origin or direction Embree accepts: its ray-validity check
+/// (an assertion that aborts the process) compares them with FLT_LARGE = 1.844e18.
+inline constexpr float embree_coordinate_limit = 1.8e18f;
+
+/// Whether Embree may be asked to trace the ray o + t d, t in [tnear, tfar]: components finite and
+/// within embree_coordinate_limit, no NaN bound. Scenes are validated to stay far inside this
+/// (scene_validate.h); the check catches what numerical accidents could still produce.
+inline bool embree_traceable(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar) {
+    // Written so that NaN fails a comparison.
+    for (int axis = 0; axis < 3; ++axis)
+        if (!(std::fabs(o[axis]) <= embree_coordinate_limit && std::fabs(d[axis]) <= embree_coordinate_limit))
+            return false;
+    return tnear == tnear && tfar == tfar;
+}
+
+/// embree_traceable for a Ray.
+inline bool embree_traceable(const Ray& r) { return embree_traceable(r.origin, r.direction, r.tmin, r.tmax); }
 
 /// What the integrator needs to know about the nearest surface along a ray.
 struct SurfaceHit {

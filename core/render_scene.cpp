@@ -23,6 +23,21 @@ void on_embree_error(void*, RTCError code, const char* message) {
     last_embree_error() = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
 }
 
+/// Embree's build progress callback: false (stop building) once the cancel flag is set.
+bool keep_building(void* cancel, double) {
+    return !static_cast<const std::atomic<bool>*>(cancel)->load(std::memory_order_relaxed);
+}
+
+/// Commits `scene`, stopping when `cancel` is set (SceneBuildCancelled; the caller releases it).
+void commit_cancellable(RTCScene scene, const std::atomic<bool>* cancel) {
+    if (cancel) rtcSetSceneProgressMonitorFunction(scene, keep_building, const_cast<std::atomic<bool>*>(cancel));
+    rtcCommitScene(scene);
+    if (cancel && cancel->load()) {
+        rtcGetDeviceError(embree_device());  // clears RTC_ERROR_CANCELLED
+        throw SceneBuildCancelled{};
+    }
+}
+
 void check_device(RTCDevice device, const char* what) {
     if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
         throw std::runtime_error(std::string(what) + ": " + last_embree_error());
@@ -53,6 +68,21 @@ void analytic_bounds(const RTCBoundsFunctionArguments* args) {
     b->upper_x = hi.x, b->upper_y = hi.y, b->upper_z = hi.z;
 }
 
+/// `v` scaled to unit length (scaled down first, so that its squared length cannot overflow), or
+/// `fallback` when it has no direction.
+glm::vec3 unit_or(const glm::vec3& v, const glm::vec3& fallback) {
+    if (!(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z))) return fallback;
+    const float m = std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+    if (!(m > 0.0f)) return fallback;
+    return glm::normalize(v / m);
+}
+
+/// Whether a normal Embree may report: finite, and within its hit check's FLT_LARGE.
+bool finite_normal(const glm::vec3& n) {
+    return std::fabs(n.x) <= embree_coordinate_limit && std::fabs(n.y) <= embree_coordinate_limit &&
+           std::fabs(n.z) <= embree_coordinate_limit;
+}
+
 /// The crossing of a primitive nearest the ray start inside [tnear, tfar], if any.
 const SurfaceCrossing* nearest_crossing(const RenderScene::AnalyticPrimitive& prim, const glm::vec3& o,
                                         const glm::vec3& d, float tnear, float tfar, ShapeInterval& interval) {
@@ -63,8 +93,10 @@ const SurfaceCrossing* nearest_crossing(const RenderScene::AnalyticPrimitive& pr
         const glm::vec3 dd = glm::mat3(prim.world_to_object) * d;
         if (!intersect_shape_interval(prim.shape, oo, dd, interval)) return nullptr;
     }
-    if (interval.entry.t >= tnear && interval.entry.t <= tfar) return &interval.entry;
-    if (interval.exit.t >= tnear && interval.exit.t <= tfar) return &interval.exit;
+    // Only finite distances: a shape far from a line, or under an extreme transform, can yield an
+    // infinite or NaN root, which must never become a hit (Embree would trace from infinity next).
+    if (interval.entry.t >= tnear && interval.entry.t <= tfar && std::isfinite(interval.entry.t)) return &interval.entry;
+    if (interval.exit.t >= tnear && interval.exit.t <= tfar && std::isfinite(interval.exit.t)) return &interval.exit;
     return nullptr;
 }
 
@@ -83,8 +115,9 @@ void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
         const SurfaceCrossing* c =
             nearest_crossing(prim, o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), interval);
         if (!c) continue;
-        RTCRayN_tfar(ray, n, i) = c->t;
         const glm::vec3 normal = prim.normal_to_world * c->normal;
+        if (!finite_normal(normal)) continue;
+        RTCRayN_tfar(ray, n, i) = c->t;
         RTCHitN_Ng_x(hit, n, i) = normal.x;
         RTCHitN_Ng_y(hit, n, i) = normal.y;
         RTCHitN_Ng_z(hit, n, i) = normal.z;
@@ -182,6 +215,7 @@ void csg_intersect(const RTCIntersectFunctionNArguments* args) {
         if (!tree.first_boundary(o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), list, boundary)) continue;
         const CsgCrossing& surface = *boundary.surface;
         const glm::vec3 normal = tree.leaf(surface.leaf).normal_to_world * surface.normal;
+        if (!std::isfinite(surface.t) || !finite_normal(normal)) continue;  // see nearest_crossing
         RTCRayN_tfar(ray, n, i) = surface.t;
         RTCHitN_Ng_x(hit, n, i) = normal.x;
         RTCHitN_Ng_y(hit, n, i) = normal.y;
@@ -209,7 +243,8 @@ void csg_occluded(const RTCOccludedFunctionNArguments* args) {
                           RTCRayN_dir_z(args->ray, n, i));
         CsgSegmentList list;
         CsgBoundary boundary;
-        if (tree.first_boundary(o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), list, boundary))
+        if (tree.first_boundary(o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), list, boundary) &&
+            std::isfinite(boundary.surface->t))
             RTCRayN_tfar(args->ray, n, i) = -ray_infinity;
     }
 }
@@ -277,7 +312,12 @@ int RenderScene::mesh_slot(const SceneDesc& desc, int mesh_index, bool robust) {
     rtcCommitGeometry(g);
     rtcAttachGeometry(mesh_scene, g);
     rtcReleaseGeometry(g);
-    rtcCommitScene(mesh_scene);
+    try {
+        commit_cancellable(mesh_scene, cancel_);
+    } catch (...) {
+        rtcReleaseScene(mesh_scene);
+        throw;
+    }
     check_device(device, "building a mesh");
     mesh_scenes_.push_back(mesh_scene);
     meshes_.push_back(desc.meshes.at(mesh_index));
@@ -285,7 +325,18 @@ int RenderScene::mesh_slot(const SceneDesc& desc, int mesh_index, bool robust) {
     return it->second;
 }
 
-RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
+RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat, const std::atomic<bool>* cancel)
+    : cancel_(cancel) {
+    try {
+        build(desc, flat);
+    } catch (...) {
+        release();  // the destructor does not run for a constructor that throws
+        throw;
+    }
+    cancel_ = nullptr;
+}
+
+void RenderScene::build(const SceneDesc& desc, const FlatScene& flat) {
     RTCDevice device = embree_device();
     for (const MaterialDesc& m : desc.materials) materials_.push_back(Material::from_desc(m));
     default_material_ = static_cast<int>(materials_.size());
@@ -370,7 +421,7 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
         rtcAttachGeometryByID(scene_, g, csg_geom_id_);
         rtcReleaseGeometry(g);
     }
-    rtcCommitScene(scene_);
+    commit_cancellable(scene_, cancel_);
     check_device(device, "building the scene");
     holder_ = std::move(holder);
     csg_holder_ = std::move(csg_holder);
@@ -397,9 +448,13 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat) {
     }
 }
 
-RenderScene::~RenderScene() {
+RenderScene::~RenderScene() { release(); }
+
+void RenderScene::release() {
     if (scene_) rtcReleaseScene(scene_);
+    scene_ = nullptr;
     for (RTCScene s : mesh_scenes_) rtcReleaseScene(s);
+    mesh_scenes_.clear();
 }
 
 void RenderScene::fill_mesh_surface(const MeshData& mesh, unsigned triangle, float b1, float b2,
@@ -439,7 +494,9 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
     const unsigned instance = rh.hit.instID[0];
     if (instance == RTC_INVALID_GEOMETRY_ID) {
         const AnalyticPrimitive& prim = analytic_[rh.hit.primID];
-        hit.normal = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+        // A cone's apex has no normal: face the ray there (as for slivers below).
+        hit.normal = unit_or(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
+                             -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z)));
         hit.face = static_cast<int>(rh.hit.u);
         hit.material = prim.material;
         hit.shape_kind = static_cast<int>(prim.shape.kind);
@@ -459,10 +516,7 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
         // Our own winding rule (counter-clockwise = outward, as OBJ files are written), not Embree's.
         const glm::vec3 n = inst.normal_to_world * glm::cross(v1 - v0, v2 - v0);
         // A sliver whose cross product underflows has no direction: face the ray instead.
-        const float n2 = glm::dot(n, n);
-        hit.normal = n2 > 0.0f && std::isfinite(n2)
-                         ? n / std::sqrt(n2)
-                         : -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z));
+        hit.normal = unit_or(n, -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z)));
         hit.material = inst.material;
         if (surface_frames_) fill_mesh_surface(mesh, rh.hit.primID, rh.hit.u, rh.hit.v, inst.object_to_world, hit);
     }
@@ -475,9 +529,8 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
     const CsgHitRecord& record = csg_records[lane & 7];
     const CsgLeaf& leaf = tree.leaf(record.leaf);
     // The normal of the surface the CSG chose, already oriented from its inside medium to its outside.
-    const glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    hit.normal = glm::dot(ng, ng) > 0.0f ? glm::normalize(ng)
-                                         : -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z));
+    hit.normal = unit_or(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
+                         -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z)));
     hit.material = record.material;
     hit.medium_inside = record.medium_inside;
     hit.medium_outside = record.medium_outside;
@@ -502,6 +555,7 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
 }
 
 bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
+    if (!embree_traceable(ray)) return false;  // only numerical accidents get here: a miss
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
@@ -515,6 +569,7 @@ bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
 }
 
 bool RenderScene::occluded(const Ray& ray) const {
+    if (!embree_traceable(ray)) return true;  // only numerical accidents get here: no light
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay r = to_embree(ray);
@@ -527,9 +582,11 @@ void RenderScene::occluded8(const Ray* rays, const int* valid, bool* blocked) co
     rtcInitIntersectContext(&context);
     alignas(32) RTCRay8 packet;
     alignas(32) int mask[8];
+    bool untraceable[8];
     for (int i = 0; i < 8; ++i) {
-        mask[i] = valid[i] ? -1 : 0;
-        const Ray& r = valid[i] ? rays[i] : rays[0];
+        untraceable[i] = valid[i] && !embree_traceable(rays[i]);
+        mask[i] = valid[i] && !untraceable[i] ? -1 : 0;
+        const Ray& r = mask[i] ? rays[i] : Ray{};
         packet.org_x[i] = r.origin.x, packet.org_y[i] = r.origin.y, packet.org_z[i] = r.origin.z;
         packet.dir_x[i] = r.direction.x, packet.dir_y[i] = r.direction.y, packet.dir_z[i] = r.direction.z;
         packet.tnear[i] = r.tmin;
@@ -540,7 +597,7 @@ void RenderScene::occluded8(const Ray* rays, const int* valid, bool* blocked) co
         packet.id[i] = static_cast<unsigned>(i);
     }
     rtcOccluded8(mask, scene_, &context, &packet);
-    for (int i = 0; i < 8; ++i) blocked[i] = valid[i] && packet.tfar[i] < 0.0f;
+    for (int i = 0; i < 8; ++i) blocked[i] = untraceable[i] || (valid[i] && packet.tfar[i] < 0.0f);
 }
 
 void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const {
@@ -550,8 +607,8 @@ void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits
     alignas(32) RTCRayHit8 packet;
     alignas(32) int mask[8];
     for (int i = 0; i < 8; ++i) {
-        mask[i] = valid[i] ? -1 : 0;
-        const Ray& r = rays[i];
+        mask[i] = valid[i] && embree_traceable(rays[i]) ? -1 : 0;
+        const Ray& r = mask[i] ? rays[i] : Ray{};
         packet.ray.org_x[i] = r.origin.x, packet.ray.org_y[i] = r.origin.y, packet.ray.org_z[i] = r.origin.z;
         packet.ray.dir_x[i] = r.direction.x, packet.ray.dir_y[i] = r.direction.y, packet.ray.dir_z[i] = r.direction.z;
         packet.ray.tnear[i] = r.tmin;
@@ -565,7 +622,7 @@ void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits
     }
     rtcIntersect8(mask, scene_, &context, &packet);
     for (int i = 0; i < 8; ++i) {
-        found[i] = valid[i] && packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        found[i] = mask[i] && packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
         if (!found[i]) continue;
         RTCRayHit one;
         one.ray.org_x = packet.ray.org_x[i], one.ray.org_y = packet.ray.org_y[i], one.ray.org_z = packet.ray.org_z[i];

@@ -11,6 +11,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <atomic>
 #include <memory>
 #include <unordered_map>
 #include <string>
@@ -18,11 +19,15 @@
 
 namespace caustica {
 
+/// Thrown by RenderScene's constructor when its cancel flag stopped the build.
+struct SceneBuildCancelled {};
+
 /// Immutable after build; safe to trace from any number of threads.
 class RenderScene {
 public:
-    /// Builds the BVH for a flattened scene. `materials` come from the scene description.
-    RenderScene(const SceneDesc& desc, const FlatScene& flat);
+    /// Builds the BVH for a flattened scene. `materials` come from the scene description. When
+    /// `cancel` is set during the build, Embree stops it and SceneBuildCancelled is thrown.
+    RenderScene(const SceneDesc& desc, const FlatScene& flat, const std::atomic<bool>* cancel = nullptr);
     ~RenderScene();
     RenderScene(const RenderScene&) = delete;
     RenderScene& operator=(const RenderScene&) = delete;
@@ -78,6 +83,10 @@ private:
                                   const glm::mat3& object_to_world, SurfaceHit& hit);
     /// The mesh_scenes_ slot of a scene mesh, building its BVH on first use.
     int mesh_slot(const SceneDesc& desc, int mesh, bool robust);
+    /// The constructor's work (it releases what was built when this throws).
+    void build(const SceneDesc& desc, const FlatScene& flat);
+    /// Releases the Embree scenes.
+    void release();
 
     struct AnalyticHolder;
     std::unique_ptr<AnalyticHolder> holder_;  // callback data for the analytic user geometry
@@ -86,6 +95,7 @@ private:
     std::vector<CsgTree> csg_;
     unsigned csg_geom_id_ = RTC_INVALID_GEOMETRY_ID;
     RTCScene scene_ = nullptr;
+    const std::atomic<bool>* cancel_ = nullptr;  ///< during the build only
     std::vector<RTCScene> mesh_scenes_;
     std::vector<std::shared_ptr<const MeshData>> meshes_;
     std::unordered_map<int, int> mesh_slot_;    // SceneDesc mesh index -> mesh_scenes_ index

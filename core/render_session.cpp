@@ -2,10 +2,12 @@
 
 #include "core/camera.h"
 #include "core/caustic_stage.h"
+#include "core/denormals.h"
 #include "core/integrator.h"
 #include "core/random.h"
 #include "core/render_scene.h"
 #include "core/scene_flatten.h"
+#include "core/scene_validate.h"
 #include "core/source_location.h"
 #include "core/texture.h"
 #include "core/tile_renderer.h"
@@ -15,14 +17,11 @@
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-#include <tbb/task_scheduler_observer.h>
-
-#include <xmmintrin.h>
-#include <pmmintrin.h>
 
 #include <chrono>
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <random>
 
 namespace caustica {
@@ -33,19 +32,13 @@ double now_seconds() {
     return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
 }
 
-/// Sets flush-to-zero and denormals-are-zero in every worker, as Embree asks.
-class FlushDenormals : public tbb::task_scheduler_observer {
-public:
-    explicit FlushDenormals(tbb::task_arena& arena) : tbb::task_scheduler_observer(arena) { observe(true); }
-    ~FlushDenormals() override { observe(false); }
-    void on_scheduler_entry(bool) override {
-        _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-        _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-    }
-};
-
 std::uint64_t hash_vec(std::uint64_t h, const glm::dvec3& v) {
     return hash_double(hash_double(hash_double(h, v.x), v.y), v.z);
+}
+
+/// Folds an index that may be -1 (none) into a running hash, in unsigned arithmetic.
+std::uint64_t hash_index(std::uint64_t h, int index) {
+    return hash_combine(h, static_cast<std::uint64_t>(static_cast<std::int64_t>(index) + 1));
 }
 
 }  // namespace
@@ -60,17 +53,17 @@ std::uint64_t geometry_fingerprint(const RenderJob& job) {
             h = hash_combine(h, static_cast<std::uint64_t>(op.kind) * 4 + static_cast<std::uint64_t>(op.axis));
             h = hash_double(hash_vec(h, op.amount), op.degrees);
         }
-        for (int child : node.children) h = hash_combine(h, static_cast<std::uint64_t>(child));
-        h = hash_combine(h, static_cast<std::uint64_t>(node.material + 1));
+        for (int child : node.children) h = hash_index(h, child);
+        h = hash_index(h, node.material);
         h = hash_double(hash_vec(h, node.position), node.size);
-        h = hash_combine(h, static_cast<std::uint64_t>(node.mesh + 1));
-        h = hash_combine(h, static_cast<std::uint64_t>((node.csg_left + 1) * 65536 + node.csg_right + 1));
+        h = hash_index(h, node.mesh);
+        h = hash_index(hash_index(h, node.csg_left), node.csg_right);
     }
     for (const MaterialDesc& m : scene.materials) {
         h = hash_double(hash_vec(hash_vec(h, m.kd), m.ks), m.shininess);
         h = hash_combine(h, (m.reflective ? 1 : 0) + (m.air ? 2 : 0) + (m.refractive_index ? 4 : 0));
         h = hash_double(h, m.refractive_index.value_or(0.0));
-        h = hash_combine(h, static_cast<std::uint64_t>((m.texture + 1) * 65536 + m.bumpmap + 1));
+        h = hash_index(hash_index(h, m.texture), m.bumpmap);
     }
     for (const TextureDesc& t : scene.textures) {
         h = hash_combine(h, std::hash<std::string>{}(t.source));
@@ -104,6 +97,7 @@ void RenderSession::set_stage(const char* name) {
 
 void RenderSession::prepare() {
     if (!job_.scene) throw InputError("no scene to render");
+    validate_render_job(job_);  // numbers the renderer cannot compute with: refused with their line
     prepare_scene();
     if (cancel_requested_) return;  // the photon pass would be thrown away
     prepare_caustics();
@@ -118,6 +112,7 @@ void RenderSession::prepare_scene() {
     set_stage("building the scene");
     const double t0 = now_seconds();
     FlatScene flat = flatten_scene(job_);
+    validate_flat_scene(flat, *job_.scene);
     {
         std::lock_guard lock(mutex_);  // pick() may be reading the old scene from another thread
         scene_.reset();
@@ -127,7 +122,12 @@ void RenderSession::prepare_scene() {
         std::lock_guard lock(mutex_);  // projection_maps() may be reading it
         caustics_ = std::make_unique<CausticStage>();  // depends on the geometry
     }
-    auto scene = std::make_shared<const RenderScene>(*job_.scene, flat);
+    std::shared_ptr<const RenderScene> scene;
+    try {
+        scene = std::make_shared<const RenderScene>(*job_.scene, flat, &cancel_requested_);
+    } catch (const SceneBuildCancelled&) {
+        return;  // nothing built: the next render builds the scene again
+    }
     textures_ = std::make_unique<TextureSet>(*job_.scene);
     built_geometry_key_ = geometry_key_;
     std::lock_guard lock(mutex_);
@@ -198,15 +198,33 @@ void RenderSession::start() {
     worker_ = std::thread([this] { run(); });
 }
 
+namespace {
+
+/// An error about an option's value ("--caustic-num-photons 1e11: ...") set by gr.option names
+/// the line of that call.
+InputError located_option_error(const RenderJob& job, const InputError& error) {
+    const std::string message = error.what();
+    if (message.rfind("--", 0) != 0) return error;
+    const std::size_t end = message.find_first_of(" =:", 2);
+    const SourceLocation* origin = job.option_origin(message.substr(2, end == std::string::npos ? end : end - 2));
+    if (!origin) return error;
+    return InputError(*origin, "gr.option: " + message);
+}
+
+}  // namespace
+
 void RenderSession::run() {
     try {
         const int threads = job_.options.threads > 0 ? job_.options.threads : tbb::info::default_concurrency();
         tbb::task_arena arena(threads);
-        FlushDenormals flush(arena);
+        // Flush-to-zero is set per task where rays are traced (tiles, photons, projection maps),
+        // not here: validation must see the smallest numbers as they are.
         arena.execute([&] {
             prepare();
             if (!cancel_requested_) render_passes(arena, threads);
         });
+    } catch (const InputError& e) {
+        error_ = std::make_exception_ptr(located_option_error(job_, e));
     } catch (...) {
         error_ = std::current_exception();
     }
@@ -233,7 +251,8 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     setup.min_weight = static_cast<float>(options.min_weight);
     setup.shadow_grid = options.shadow_grid;
     setup.soft_shadows = !options.no_soft_shadows;
-    setup.unit_distance = static_cast<float>(options.unit_distance);
+    // The smallest unit distances are below float's normal range: keep the divisor positive.
+    setup.unit_distance = std::max(static_cast<float>(options.unit_distance), std::numeric_limits<float>::min());
     setup.textures = textures_.get();
     if (caustics_ && caustics_->map) {
         setup.caustic_map = caustics_->map.get();
@@ -281,6 +300,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
                               [&](const tbb::blocked_range<std::size_t>& range) {
+                                  const ScopedFlushDenormals flush;
                                   for (std::size_t i = range.begin(); i != range.end(); ++i) {
                                       if (cancel_requested_.load(std::memory_order_relaxed)) return;
                                       {

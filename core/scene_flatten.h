@@ -53,8 +53,9 @@ struct FlatScene {
 /// The local matrix of a node's transform calls in the given convention.
 glm::dmat4 compose_transforms(const std::vector<TransformOp>& ops, bool course_convention);
 
-/// Walks the DAG from `root`. Throws InputError naming the node's script line for a singular or
-/// non-finite world transform, a cycle, or a CSG node without two operands.
+/// Walks the DAG from `root` (iteratively: any nesting depth). Throws InputError naming the node's
+/// script line for a singular or non-finite world transform, a cycle, a CSG node without two
+/// operands, or a scene that reuse expands to more than five million nodes.
 FlatScene flatten_scene(const SceneDesc& scene, int root, bool course_convention);
 
 /// Flattens a render job with its options (the convention, --disable-csg-bb, --disable-bv).

@@ -154,10 +154,11 @@ TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
     session.start();
     EXPECT_TRUE(session.wait());
     const RenderSession::StageCounters after = session.stage_counters();
-    // A finished BVH is kept even when its render was cancelled; a cut photon pass is not (when
-    // the cancel came during the scene build, the photon pass that followed stopped at once).
-    const bool photons_cut = stage == "shooting photons" || stage == "building the scene";
-    EXPECT_EQ(after.scene_builds, before.scene_builds);
+    // A finished BVH is kept even when its render was cancelled; a cut BVH build or photon pass is
+    // not (a cancel during the scene build stops Embree's build, and the photon pass never starts).
+    const bool build_cut = stage == "building the scene";
+    const bool photons_cut = stage == "shooting photons" || build_cut;
+    EXPECT_EQ(after.scene_builds, before.scene_builds + (build_cut ? 1 : 0));
     EXPECT_EQ(after.photon_passes, before.photon_passes + (photons_cut ? 1 : 0));
     if (stage != "building the scene" && stage != "shooting photons") {
         RenderSession fresh;
@@ -168,10 +169,11 @@ TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
     }
 }
 
-// A pass stops within a frame (16 ms); building the BVH and the k-d tree of the photons shot so
-// far cannot be interrupted, so those stages get longer bounds (the UI never waits for them).
+// A pass stops within a frame (16 ms); Embree stops a BVH build at its next progress report
+// (10.6 ms measured on a million triangles); the k-d tree of the photons shot so far cannot be
+// interrupted, so that stage gets a longer bound (the UI never waits for it).
 INSTANTIATE_TEST_SUITE_P(Stages, CancelDuringStage,
-                         ::testing::Values(StageCase{"building the scene", 10.0}, StageCase{"shooting photons", 5.0},
+                         ::testing::Values(StageCase{"building the scene", 0.25}, StageCase{"shooting photons", 5.0},
                                            StageCase{"preview", 0.016}, StageCase{"first samples", 0.016},
                                            StageCase{"anti-aliasing", 0.016}),
                          [](const auto& info) {
