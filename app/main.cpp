@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,10 @@ int main(int argc, char** argv) {
         if (command.size() > 4 && command.compare(command.size() - 4, 4, ".lua") == 0)
             return caustica::run_render_command(args);
         std::fprintf(stderr, "caustica: unknown command '%s'\n\n%s", command.c_str(), usage);
+        return caustica::exit_usage;
+    } catch (const std::bad_alloc&) {
+        // Only reached when no stage could name the cause: still a clear message, exit 2 (README).
+        std::fprintf(stderr, "caustica: not enough memory for this scene (an allocation failed)\n");
         return caustica::exit_usage;
     } catch (const caustica::InputError& e) {
         std::fprintf(stderr, "caustica: %s\n", e.what());

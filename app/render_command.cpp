@@ -12,6 +12,8 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <new>
+#include <stdexcept>
 #include <thread>
 #include <unistd.h>
 
@@ -20,14 +22,19 @@ namespace {
 
 std::atomic<bool> interrupted{false};
 
+/// The first Ctrl-C or SIGTERM asks every stage to stop (within a second); a second one leaves at
+/// once, removing the temporary of a PNG being written so that nothing partial stays behind.
 extern "C" void on_interrupt(int) {
-    if (interrupted.exchange(true)) ::_exit(exit_interrupted);  // a second Ctrl-C: leave at once
+    if (!interrupted.exchange(true)) return;
+    remove_png_temporaries_from_signal_handler();
+    ::_exit(exit_interrupted);
 }
 
 struct RenderArguments {
     std::vector<std::string> option_tokens;  ///< everything but the scene and -o
     std::string scene;
     std::string output;                       ///< -o, or "" for the names the script gives
+    std::vector<std::string> allow_read;      ///< --allow-read folders (command line only)
     bool help = false;
 };
 
@@ -43,6 +50,11 @@ RenderArguments parse_arguments(const std::vector<std::string>& args) {
             parsed.output = args[++i];
         } else if (a.rfind("--output=", 0) == 0) {
             parsed.output = a.substr(9);
+        } else if (a == "--allow-read") {
+            if (i + 1 >= args.size()) throw InputError(a + ": expects a folder");
+            parsed.allow_read.push_back(args[++i]);
+        } else if (a.rfind("--allow-read=", 0) == 0) {
+            parsed.allow_read.push_back(a.substr(13));
         } else {
             tokens.push_back(a);
         }
@@ -69,14 +81,27 @@ std::string output_path(const RenderArguments& args, const RenderJob& job, std::
     return (p.parent_path() / (p.stem().string() + "-" + std::to_string(index + 1) + p.extension().string())).string();
 }
 
-void check_writable(const std::string& path, const RenderJob& job) {
+/// Refuses, before any rendering, an output that cannot be written. A bad name is the scene's
+/// error (exit 2); a missing or unwritable folder is the environment's, exit 1 like a write that
+/// fails after rendering (README, exit codes). Also removes stale temporaries of killed runs.
+void check_writable(const std::string& path, const RenderJob& job, bool from_command_line) {
     std::filesystem::path p(path);
     if (p.extension() != ".png") throw InputError(job.where, "gr.render: output '" + path + "' must end in .png");
+    const std::string prefix = from_command_line ? "-o: cannot write '" + path + "': "
+                                                 : job.where.str() + ": gr.render: cannot write '" + path + "': ";
     std::filesystem::path dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
     if (!std::filesystem::is_directory(dir))
-        throw InputError(job.where, "gr.render: cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
+        throw std::runtime_error(prefix + "folder '" + dir.string() + "' does not exist");
     if (::access(dir.c_str(), W_OK) != 0)
-        throw InputError(job.where, "gr.render: cannot write '" + path + "': folder '" + dir.string() + "' is not writable");
+        throw std::runtime_error(prefix + "folder '" + dir.string() + "' is not writable");
+    if (const std::string problem = png_output_problem(path); !problem.empty()) throw std::runtime_error(prefix + problem);
+    remove_stale_png_temporaries(dir.string());
+}
+
+/// "W x H" as a job will render it.
+std::string job_size(const RenderJob& job) {
+    const int r = job.options.resolution_override;
+    return std::to_string(r ? r : job.width) + " x " + std::to_string(r ? r : job.height);
 }
 
 void print_stats(const RenderStats& stats, bool timing, bool statistics) {
@@ -151,11 +176,17 @@ int render_job(RenderSession& session, const RenderJob& job, const std::string& 
     const RenderStats stats = session.stats();
     char seconds[32];
     std::snprintf(seconds, sizeof seconds, "%.3f", stats.total_seconds);
-    write_png_atomic(path, session.image(), o.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear,
-                     {{"Software", "caustica " CAUSTICA_VERSION},
-                      {"Source", scene_path},
-                      {"caustica:options", describe_non_default(o)},
-                      {"caustica:render-seconds", seconds}});
+    try {
+        write_png_atomic(path, session.image(), o.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear,
+                         {{"Software", "caustica " CAUSTICA_VERSION},
+                          {"Source", scene_path},
+                          {"caustica:options", describe_non_default(o)},
+                          {"caustica:render-seconds", seconds}},
+                         &interrupted);
+    } catch (const PngWriteCancelled&) {
+        if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
+        return exit_interrupted;
+    }
     print_stats(stats, o.timing, o.stats);
     if (!o.silent)
         std::printf("wrote %s (%d x %d, %.2f s)\n", path.c_str(), session.image().width, session.image().height,
@@ -171,8 +202,13 @@ std::string render_help() {
            "Runs the scene script and renders every gr.render it calls. Without -o each render\n"
            "writes the file the script names, relative to the current folder; with -o a single\n"
            "render writes OUT.png and several write OUT-1.png, OUT-2.png, ...\n"
+           "The script runs sandboxed: it reads only regular files under its own folder, and\n"
+           "--allow-read DIR (repeatable, command line only) lets it read under DIR too.\n"
+           "Script names for gr.render are relative to the current folder, without '..'.\n"
            "Options may also be set in the scene with gr.option('--flag ...'); the command line wins.\n"
-           "Exit codes: 0 success, 1 output could not be written, 2 scene or usage error, 130 interrupted.\n" +
+           "Exit codes: 0 success, 1 output could not be written (a missing or unwritable folder, found\n"
+           "before or after rendering), 2 scene or usage error (a scene that needs more memory than\n"
+           "there is included), 130 interrupted (nothing written).\n" +
            options_help();
 }
 
@@ -191,6 +227,9 @@ int run_render_command(const std::vector<std::string>& args) {
     std::signal(SIGTERM, on_interrupt);
     LoadSettings settings;
     settings.timeout_seconds = command_line.script_timeout;
+    settings.memory_limit_bytes = static_cast<std::size_t>(command_line.script_memory_mib) << 20;
+    settings.allow_read = parsed.allow_read;
+    settings.output_given = !parsed.output.empty();
     settings.cancel = &interrupted;
     SceneScript script;
     try {
@@ -198,6 +237,8 @@ int run_render_command(const std::vector<std::string>& args) {
     } catch (const ScriptCancelled&) {
         std::fprintf(stderr, "caustica: interrupted while running %s\n", parsed.scene.c_str());
         return exit_interrupted;
+    } catch (const std::bad_alloc&) {
+        throw InputError(parsed.scene + ": not enough memory to run the script");
     }
     if (!command_line.silent)
         for (const std::string& w : script.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -208,12 +249,25 @@ int run_render_command(const std::vector<std::string>& args) {
     std::vector<std::string> paths;
     for (std::size_t i = 0; i < jobs.size(); ++i) {
         apply_option_tokens(jobs[i].options, parsed.option_tokens);
+        for (const std::string& token : parsed.option_tokens)  // set on the command line: not the script's
+            if (token.rfind("--", 0) == 0)
+                std::erase_if(jobs[i].option_origins, [&](const auto& origin) {
+                    return token.compare(2, origin.first.size(), origin.first) == 0 &&
+                           (token.size() == origin.first.size() + 2 || token[origin.first.size() + 2] == '=');
+                });
         paths.push_back(output_path(parsed, jobs[i], i, jobs.size()));
-        check_writable(paths.back(), jobs[i]);
+        check_writable(paths.back(), jobs[i], !parsed.output.empty());
     }
     RenderSession session;
     for (std::size_t i = 0; i < jobs.size(); ++i) {
-        const int code = render_job(session, jobs[i], parsed.scene, paths[i]);
+        int code = exit_ok;
+        try {
+            code = render_job(session, jobs[i], parsed.scene, paths[i]);
+        } catch (const std::bad_alloc&) {
+            // The scene asks for more than the machine can hold: a scene error (exit 2, README).
+            throw InputError(jobs[i].where, "gr.render: not enough memory to render '" + paths[i] + "' (" +
+                                                job_size(jobs[i]) + " pixels); lower the resolution or the photon count");
+        }
         if (code != exit_ok) return code;
     }
     return exit_ok;

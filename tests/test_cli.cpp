@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -161,12 +162,58 @@ TEST_F(Cli, SyntaxErrorNamesTheLine) {
 }
 
 TEST_F(Cli, UnwritableOutputFolderIsRefusedBeforeRendering) {
+    // Exit 1, "the output could not be written" (README), as when the write fails after rendering.
     std::string scene = small_scene;
     scene.replace(scene.find("'out.png'"), 9, "'nodir/out.png'");
     write("scene.lua", scene);
     const Result r = run("render scene.lua");
-    EXPECT_EQ(r.code, 2);
-    EXPECT_NE(r.output.find("scene.lua:7: gr.render: cannot write 'nodir/out.png'"), std::string::npos) << r.output;
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.output.find("scene.lua:7: gr.render: cannot write 'nodir/out.png': folder 'nodir' does not exist"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("wrote"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, EveryOutputThatCannotBeWrittenExits1BeforeRendering) {
+    write("scene.lua", small_scene);
+    fs::create_directory(dir_ / "taken.png");
+    const std::string long_name(300, 'n');
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"nodir/x.png", "-o: cannot write 'nodir/x.png': folder 'nodir' does not exist"},
+        {"taken.png", "-o: cannot write 'taken.png': it is a folder"},
+        {"/proc/x.png", "-o: cannot write '/proc/x.png': No such file or directory"},  // root may "write" there
+        {long_name + ".png", "-o: cannot write '" + long_name + ".png': File name too long"},
+    };
+    for (const auto& [output, message] : cases) {
+        const Result r = run("render -v scene.lua -o '" + output + "'");
+        EXPECT_EQ(r.code, 1) << output << ": " << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+        EXPECT_EQ(r.output.find("rendering"), std::string::npos) << "refused after starting: " << r.output;
+    }
+    EXPECT_TRUE(pngs() == std::vector<std::string>{"taken.png"});
+}
+
+TEST_F(Cli, AnOutputFolderRemovedDuringTheRenderExits1Too) {
+    std::string scene = small_scene;
+    scene.replace(scene.find("'out.png', 40, 30"), 17, "'sub/out.png', 1500, 1500");
+    write("scene.lua", "gr.option('--aa-grid 4 --aa-threshold 0 --threads 2')\n" + scene);
+    fs::create_directory(dir_ / "sub");
+    const std::string command = "cd '" + dir_.string() + "' && '" CAUSTICA_BINARY "' render -v scene.lua 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    std::string output;
+    char line[4096];
+    while (std::fgets(line, sizeof line, pipe)) {
+        output += line;
+        if (output.find("rendering sub/out.png") != std::string::npos) {
+            fs::remove_all(dir_ / "sub");  // after the check, long before the write
+            break;
+        }
+    }
+    while (std::fgets(line, sizeof line, pipe)) output += line;
+    const int status = ::pclose(pipe);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 1) << output;
+    EXPECT_NE(output.find("cannot write 'sub/out.png': No such file or directory"), std::string::npos) << output;
 }
 
 TEST_F(Cli, ScriptWithoutRenderIsAnError) {
@@ -195,5 +242,105 @@ TEST_F(Cli, InterruptStopsWithinASecondExits130AndWritesNothing) {
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 130);
     EXPECT_LT(seconds, 1.0);
+    EXPECT_TRUE(pngs().empty());
+}
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr double time_factor = 3.0;  // sanitized builds run slower
+#else
+constexpr double time_factor = 1.0;
+#endif
+
+/// Runs `caustica render -s big.lua -o out.png` on a 4000 x 4000 image (about 1.5 s to render,
+/// over a second to write), sends `signals` as soon as the PNG's temporary appears, and returns
+/// the exit status and the seconds from the first signal to the exit.
+std::pair<int, double> interrupt_the_write(const fs::path& dir, const std::vector<int>& signals) {
+    std::string scene = small_scene;
+    scene.replace(scene.find("40, 30"), 6, "4000, 4000");
+    std::ofstream(dir / "big.lua") << "gr.option('--threads 2')\n" + scene;
+    const std::string binary = CAUSTICA_BINARY;
+    const std::string scene_path = (dir / "big.lua").string();
+    const std::string out_path = (dir / "out.png").string();
+    const char* argv[] = {binary.c_str(), "render", "-s", scene_path.c_str(), "-o", out_path.c_str(), nullptr};
+    pid_t pid;
+    if (::posix_spawn(&pid, binary.c_str(), nullptr, nullptr, const_cast<char**>(argv), environ) != 0) return {-1, 0};
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    const std::string its_pid = std::string("-") + std::to_string(pid) + '-';
+    bool writing = false;
+    while (!writing && std::chrono::steady_clock::now() < give_up) {
+        for (const auto& entry : fs::directory_iterator(dir)) {
+            const std::string name = entry.path().filename().string();
+            writing |= name.rfind(".out.png.caustica-tmp-", 0) == 0 && name.find(its_pid) != std::string::npos;
+        }
+        if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < signals.size(); ++i) {
+        if (i > 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        ::kill(pid, signals[i]);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return {writing && WIFEXITED(status) ? WEXITSTATUS(status) : -1, seconds};
+}
+
+}  // namespace
+
+TEST_F(Cli, CtrlCDuringThePngWriteStopsItAndLeavesNothing) {
+    const auto [code, seconds] = interrupt_the_write(dir_, {SIGINT});
+    EXPECT_EQ(code, 130);
+    EXPECT_LT(seconds, 1.0 * time_factor);
+    EXPECT_TRUE(pngs().empty()) << pngs()[0];  // neither out.png nor its temporary
+}
+
+TEST_F(Cli, ASecondSignalDuringThePngWriteLeavesNoTemporary) {
+    for (const int sig : {SIGINT, SIGTERM}) {
+        const auto [code, seconds] = interrupt_the_write(dir_, {sig, sig});
+        EXPECT_EQ(code, 130) << sig;
+        EXPECT_LT(seconds, 1.0 * time_factor) << sig;
+        EXPECT_TRUE(pngs().empty()) << pngs()[0];
+    }
+}
+
+TEST_F(Cli, AKilledWritesTemporaryIsRemovedByTheNextRun) {
+    // SIGKILL cannot be handled: the temporary stays until the next run writing into the folder,
+    // which removes it (its process is gone) and nothing else.
+    std::ofstream(dir_ / ".out.png.caustica-tmp-elsewhere-1-0") << "another host's: kept";
+    const auto [code, seconds] = interrupt_the_write(dir_, {SIGKILL});
+    EXPECT_EQ(code, -1);  // killed
+    std::vector<std::string> left = pngs();
+    std::sort(left.begin(), left.end());
+    ASSERT_EQ(left.size(), 2u) << "the killed run's temporary and the other host's";
+    EXPECT_EQ(left[0], ".out.png.caustica-tmp-elsewhere-1-0");
+    write("scene.lua", small_scene);
+    ASSERT_EQ(run("render scene.lua -o other.png").code, 0);
+    std::vector<std::string> after = pngs();
+    std::sort(after.begin(), after.end());
+    EXPECT_EQ(after, (std::vector<std::string>{".out.png.caustica-tmp-elsewhere-1-0", "other.png"}));
+    (void)seconds;
+}
+
+TEST_F(Cli, RunningOutOfMemoryIsAClearSceneErrorNotABareBadAlloc) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    GTEST_SKIP() << "an address-space limit cannot hold a sanitizer's shadow memory";
+#endif
+    // 16384 x 16384 needs 3 GiB of float pixels; the process may have 1.5 GB of address space.
+    std::string scene = small_scene;
+    scene.replace(scene.find("40, 30"), 6, "16384, 16384");
+    write("huge.lua", scene);
+    const std::string command = "cd '" + dir_.string() + "' && ulimit -v 1500000 && '" CAUSTICA_BINARY
+                                "' render -s huge.lua -o out.png 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    std::string output;
+    char buffer[4096];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
+    const int status = ::pclose(pipe);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 2) << output;
+    EXPECT_EQ(output, "caustica: huge.lua:7: gr.render: not enough memory to render 'out.png' (16384 x 16384 pixels); "
+                      "lower the resolution or the photon count\n");
     EXPECT_TRUE(pngs().empty());
 }
