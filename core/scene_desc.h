@@ -11,9 +11,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace caustica {
+
+struct Png8;
 
 /// One transform call on a node; the matrix is composed when a render resolves the convention.
 struct TransformOp {
@@ -60,6 +63,7 @@ struct TextureDesc {
     std::string source;       ///< absolute PNG path, or procedural name ("redcheck", "sinewaves")
     bool procedural = false;
     std::string remap;        ///< "", "cubetop", "cubefront", "cubebot", "cyltop", "conetop"
+    std::shared_ptr<const Png8> image;  ///< decoded by the loader (else `source` is read at render time)
     SourceLocation where;
 };
 
@@ -119,6 +123,16 @@ struct RenderJob {
     glm::dvec3 miss_colour{0.0};
     Options options;                     ///< defaults + gr.option calls made before this render
     SourceLocation where;
+    /// Long option names ("caustic-num-photons") with the gr.option call that set them, in call
+    /// order: errors about an option's value name that line.
+    std::vector<std::pair<std::string, SourceLocation>> option_origins;
+
+    /// The gr.option call that last set `name`, or nullptr (default, command line or preset).
+    const SourceLocation* option_origin(const std::string& name) const {
+        for (auto it = option_origins.rbegin(); it != option_origins.rend(); ++it)
+            if (it->first == name) return &it->second;
+        return nullptr;
+    }
 };
 
 /// The result of running a scene script.

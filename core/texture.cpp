@@ -47,7 +47,7 @@ Source make_source(const TextureDesc& desc, bool bumpmap) {
     source.remap = *remap;
     if (!desc.procedural) {
         try {
-            source.image = load_texture_image(desc.source);
+            source.image = desc.image ? texture_image_from(desc.image) : load_texture_image(desc.source);
         } catch (const std::exception& e) {
             throw InputError(desc.where, call + ": cannot read '" + desc.source + "': " +
                                              read_failure_reason(e.what(), desc.source));

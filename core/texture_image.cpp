@@ -120,4 +120,19 @@ std::shared_ptr<const TextureImage> load_texture_image(const std::string& path) 
     return image;
 }
 
+std::shared_ptr<const TextureImage> texture_image_from(const std::shared_ptr<const Png8>& png) {
+    struct Entry {
+        std::weak_ptr<const Png8> png;
+        std::shared_ptr<const TextureImage> image;
+    };
+    static std::mutex mutex;
+    static std::unordered_map<const Png8*, Entry> cache;
+    std::lock_guard lock(mutex);
+    std::erase_if(cache, [](const auto& entry) { return entry.second.png.expired(); });
+    if (auto it = cache.find(png.get()); it != cache.end()) return it->second.image;
+    auto image = std::make_shared<const TextureImage>(TextureImage::from_png(*png));
+    cache[png.get()] = {png, image};
+    return image;
+}
+
 }  // namespace caustica

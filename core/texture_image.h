@@ -66,4 +66,8 @@ private:
 /// changes. Throws std::runtime_error from read_png when the file cannot be read.
 std::shared_ptr<const TextureImage> load_texture_image(const std::string& path);
 
+/// The texture for an image the scene loader decoded: converted once while the decoded image is
+/// alive (every render of a scene shares it).
+std::shared_ptr<const TextureImage> texture_image_from(const std::shared_ptr<const Png8>& png);
+
 }  // namespace caustica

@@ -1,9 +1,9 @@
 -- Textures and bump maps on every primitive kind (docs/TEXTURES.md has the rules).
--- The images come from ../assets/textures/make_textures.py.
+-- The images come from textures/make_textures.py.
 -- Seed conventions: gr.cube spans [-1,1]; each transform call post-multiplies, so the call
 -- written last acts first on the geometry.
 
-local textures = '../assets/textures/'
+local textures = 'textures/'
 
 scene = gr.node('scene')
 

@@ -2,6 +2,9 @@
 // options, the 5.1 module system, the sandbox, every class of bad input and the limits.
 #include "core/lua/scene_loader.h"
 #include "core/mesh_obj.h"
+#include "core/png_io.h"
+#include "tests/course_scenes.h"
+#include "tests/temp_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -17,32 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// A fresh folder under the system temp dir, removed at the end of the test.
-class TempFolder {
-public:
-    TempFolder() {
-        static int counter = 0;
-        path_ = fs::temp_directory_path() /
-                ("caustica_lua_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempFolder() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    /// Writes `text` to `name` (folders created) and returns the full path.
-    std::string write(const std::string& name, const std::string& text) const {
-        const fs::path file = path_ / name;
-        fs::create_directories(file.parent_path());
-        std::ofstream(file, std::ios::binary) << text;
-        return file.string();
-    }
-    const fs::path& path() const { return path_; }
-
-private:
-    fs::path path_;
-};
+using testing::TempFolder;
 
 /// The message of the InputError that loading `path` throws ("(no error)" when it loads).
 std::string load_error(const std::string& path, const LoadSettings& settings = {}) {
@@ -82,6 +60,7 @@ struct CourseScene {
 };
 
 TEST(SceneLoader, EveryCourseSceneLoads) {
+    CAUSTICA_SKIP_WITHOUT_CS488();
     const std::vector<CourseScene> scenes = {
         {"hier", 2, {{"plane", 2}, {"poly", 36}}},
         {"macho-cows", 1, {{"cow", 5804}, {"plane", 2}, {"buckyball", 116}}},
@@ -93,7 +72,7 @@ TEST(SceneLoader, EveryCourseSceneLoads) {
         SCOPED_TRACE(expected.file);
         LoadSettings settings;
         settings.base_options.a4 = true;
-        const std::string path = std::string(CAUSTICA_CS488_DIR) + "/" + expected.file + ".lua";
+        const std::string path = testing::cs488_file(std::string(expected.file) + ".lua");
         const SceneScript script = load_scene_script(path, settings);
         ASSERT_EQ(script.renders.size(), 1u);
         const RenderJob& job = script.renders[0];
@@ -114,7 +93,8 @@ TEST(SceneLoader, EveryCourseSceneLoads) {
 }
 
 TEST(SceneLoader, HierarchyTransformsAndInstancing) {
-    const SceneScript script = load_scene_script(std::string(CAUSTICA_CS488_DIR) + "/macho-cows.lua");
+    CAUSTICA_SKIP_WITHOUT_CS488();
+    const SceneScript script = load_scene_script(testing::cs488_file("macho-cows.lua"));
     const SceneDesc& scene = *script.renders.at(0).scene;
     EXPECT_EQ(script.renders[0].root, index_of(scene, "scene"));
     const NodeDesc& cow = node_named(scene, "cow");
@@ -201,7 +181,7 @@ TEST(SceneLoader, OptionsAccumulateFromTheBase) {
 
 TEST(SceneLoader, MaterialsTexturesLightsAndCsg) {
     TempFolder dir;
-    dir.write("wood.png", std::string("\x89PNG\r\n\x1a\n", 8) + "rest");
+    write_png_atomic(dir / "wood.png", Image(4, 2), PixelEncoding::clamped_linear);
     dir.write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n");
     const std::string path = dir.write("scene.lua", R"(glass = gr.material({0,0,0}, {1,1,1}, 100)
 glass:set_ri(1.5)
@@ -446,7 +426,8 @@ TEST(SceneLoader, MemoryLimitStopsTheScript) {
     const std::string path = dir.write("scene.lua", "local t = {}\nfor i = 1, 1e9 do t[i] = {i} end\n");
     LoadSettings settings;
     settings.memory_limit_bytes = std::size_t(64) << 20;
-    EXPECT_EQ(load_error(path, settings), path + ":2: script exceeded the memory limit of 64 MiB");
+    EXPECT_EQ(load_error(path, settings), path + ":2: script exceeded the memory limit of 64 MiB (Lua heap and "
+                                                 "scene data; --script-memory sets it)");
     const std::string big = dir.write("big.lua", "local s = string.rep('x', 100 * 1024 * 1024)\n");
     EXPECT_NE(load_error(big, settings).find("script exceeded the memory limit of 64 MiB"), std::string::npos);
 }
@@ -495,28 +476,34 @@ f 4 3 5
 
     const auto plain = load_obj_mesh(dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n"));
     EXPECT_TRUE(plain->texcoords.empty());
-    const auto cow = load_obj_mesh(std::string(CAUSTICA_CS488_DIR) + "/cow.obj");
+}
+
+TEST(MeshObj, TheCourseCowLoads) {
+    CAUSTICA_SKIP_WITHOUT_CS488();
+    const auto cow = load_obj_mesh(testing::cs488_file("cow.obj"));
     EXPECT_EQ(cow->positions.size(), 2903u);
     EXPECT_EQ(cow->triangles.size(), 5804u);
 }
 
 TEST(MeshObj, BadFilesAreInputErrors) {
     TempFolder dir;
+    // Errors name the file (as given) and the line: the temporary folder is cut off here.
     auto error_of = [&](const std::string& text) {
+        const std::string path = dir.write("bad.obj", text);
         try {
-            load_obj_mesh(dir.write("bad.obj", text));
+            load_obj_mesh(path);
         } catch (const InputError& e) {
-            return std::string(e.what());
+            const std::string message = e.what();
+            return message.rfind(path, 0) == 0 ? "bad.obj" + message.substr(path.size()) : message;
         }
         return std::string("(no error)");
     };
-    EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\n"), "no triangles (the file has no faces with 3 or more vertices)");
+    EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\n"), "bad.obj: no triangles (the file has no faces with 3 or more vertices)");
     EXPECT_EQ(error_of("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
-              "line 2: coordinate 'nan' is not a finite number");
-    EXPECT_EQ(error_of("v 0 0 1e39\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), "line 1: coordinate '1e39' is out of range");
-    EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
-              "face 1 refers to vertex 9, but the file has 3 vertices");
-    EXPECT_NE(error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n").find("zero value for face index"), std::string::npos);
+              "bad.obj:2: coordinate 'nan' is not a finite number");
+    EXPECT_EQ(error_of("v 0 0 1e39\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), "bad.obj:1: coordinate '1e39' is out of range");
+    EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"), "bad.obj:4: face index 9 is out of range (1..3)");
+    EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), "bad.obj:4: face index 0 is out of range (1..3)");
     EXPECT_THROW(load_obj_mesh((dir.path() / "none.obj").string()), InputError);
 }
 

@@ -66,6 +66,8 @@ ViewArguments parse_view_arguments(const std::vector<std::string>& args) {
             const std::string v = value_of(i, "--orbit");
             const auto [yaw, pitch] = split_pair("--orbit", v, ',', "YAW,PITCH in degrees, e.g. 30,-10");
             parsed.orbit = glm::dvec2(parse_double("--orbit", yaw), parse_double("--orbit", pitch));
+        } else if (is(a, "--allow-read")) {
+            parsed.allow_read.push_back(value_of(i, "--allow-read"));
         } else if (a == "--headless") {
             parsed.headless = true;
         } else if (a == "--final") {
@@ -106,6 +108,7 @@ std::string view_help() {
            "  --headless         render the window off-screen with OSMesa (chosen automatically without DISPLAY)\n"
            "  --final            with --snapshot: wait until every pass (anti-aliasing too) is done\n"
            "  --size WxH         window size (default 1280x720)\n"
+           "  --allow-read DIR   let scenes read files under DIR too (repeatable; a shared texture folder)\n"
            "Render options ('caustica render --help') apply over the scene's gr.option calls.\n";
 }
 

@@ -11,6 +11,7 @@ namespace caustica::ui {
 
 /// Parsed `caustica view` arguments.
 struct ViewArguments {
+    std::vector<std::string> allow_read;  ///< --allow-read folders: scenes may read there too
     std::string scene;                   ///< "" = start with the Open panel
     int frames = 0;                      ///< --frames N: run N frames (at least until the first full pass), then exit
     std::string snapshot;                ///< --snapshot FILE: write the whole window to FILE before exiting

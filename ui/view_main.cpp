@@ -28,6 +28,8 @@ ModelConfig model_config(const ViewArguments& args) {
     Options options;
     apply_option_tokens(options, args.option_tokens);  // --script-timeout applies to every load
     config.script_timeout = options.script_timeout;
+    config.script_memory_bytes = static_cast<std::size_t>(options.script_memory_mib) << 20;
+    config.allow_read = args.allow_read;
     return config;
 }
 

@@ -23,6 +23,9 @@ bool same_file(const std::string& a, const std::string& b) {
 LoadSettings load_settings(const ModelConfig& config) {
     LoadSettings settings;
     settings.timeout_seconds = config.script_timeout;
+    settings.memory_limit_bytes = config.script_memory_bytes;
+    settings.allow_read = config.allow_read;
+    settings.output_given = true;  // the preview saves where the user says, never to the script's names
     apply_option_tokens(settings.base_options, config.default_tokens);
     return settings;
 }

@@ -28,6 +28,8 @@ struct ModelConfig {
     std::string recent_file;                 ///< where the recent list is kept ("" = nowhere)
     DriverSettings driver;
     double script_timeout = 60.0;            ///< seconds a scene script may run
+    std::size_t script_memory_bytes = std::size_t(2) << 30;  ///< the script's memory budget (0 = none)
+    std::vector<std::string> allow_read;     ///< folders besides the scene's that scripts may read
 };
 
 /// Display-only settings: applied in the shader, never re-rendered.

@@ -212,22 +212,4 @@ int self_arg(lua_State* L, HandleKind kind) {
     return handle->index;
 }
 
-std::filesystem::path resolve_scene_file(const LoaderContext& ctx, const std::string& as_written) {
-    namespace fs = std::filesystem;
-    if (as_written.empty()) throw InputError("the file name is empty");
-    fs::path path(as_written);
-    if (path.is_relative()) path = ctx.scene_dir / path;
-    path = path.lexically_normal();
-    std::error_code error;
-    if (fs::is_directory(path, error))
-        throw InputError("cannot open '" + as_written + "' (" + path.string() + "): it is a folder");
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) {
-        const int code = errno;
-        throw InputError("cannot open '" + as_written + "' (" + path.string() + "): " + std::strerror(code));
-    }
-    std::fclose(file);
-    return path;
-}
-
 }  // namespace caustica::scene_lua

@@ -12,12 +12,18 @@
 #include <lua.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
+
+namespace caustica {
+struct Png8;
+}
 
 namespace caustica::scene_lua {
 
@@ -34,19 +40,31 @@ struct Handle {
 /// Marks a userdata as a caustica handle.
 inline constexpr std::uint32_t handle_magic = 0xCA05771Cu;
 
+/// Where the script is, kept where the parent process can read it should it have to stop the
+/// loader process from outside (a page shared between the two).
+struct SharedProgress {
+    int line = 0;
+    char file[1024] = {};
+};
+
 /// Everything a running script builds and the limits it runs under; lives as long as the lua_State.
 struct LoaderContext {
     // inputs
     std::string script_path;                ///< as passed to load_scene_script
     std::filesystem::path script_dir_as_given;  ///< parent of script_path as written ("" for the cwd)
     std::filesystem::path scene_dir;        ///< absolute, canonical folder of the main script
+    std::vector<std::filesystem::path> read_roots;  ///< real paths scripts may read under (scene_dir first)
+    bool output_given = false;              ///< -o was given: gr.render's file names are not used
     lua_State* L = nullptr;
 
     // the scene so far
     SceneDesc scene;
     std::vector<bool> texture_is_bumpmap;   ///< parallel to scene.textures
-    std::map<std::string, int> mesh_cache;  ///< absolute OBJ path -> index into scene.meshes
+    std::map<std::pair<std::uint64_t, std::uint64_t>, int> mesh_cache;  ///< (device, inode) -> scene.meshes index
+    std::map<std::pair<std::uint64_t, std::uint64_t>, std::shared_ptr<const Png8>> image_cache;  ///< decoded once per file
+    std::size_t scene_bytes = 0;            ///< estimate of ctx.scene's size: what one gr.render snapshot costs
     Options options;                        ///< base options + every gr.option so far
+    std::vector<std::pair<std::string, SourceLocation>> option_origins;  ///< see RenderJob::option_origins
     glm::dvec3 miss_colour{0.0};
     std::vector<RenderJob> renders;
     std::vector<std::string> warnings;
@@ -63,13 +81,27 @@ struct LoaderContext {
     bool cancelled = false;
     bool finished = false;                  ///< the state is closing: warnings are no longer collected
     SourceLocation last_hook_location;      ///< refreshed by the instruction-count hook (memory errors use it)
+    SharedProgress* shared_progress = nullptr;  ///< a copy of last_hook_location for the parent process
+    bool noting_location = false;           ///< note_location is running (the allocator must not re-enter it)
+    std::uint64_t library_steps = 0;        ///< iterations of bounded library loops (limits checked every 4096)
 
     // messages handed from C++ to Lua
     std::string pending_error;              ///< raised by the guard after the C++ frames are gone
     std::string stop_message;               ///< timeout/cancel message, raised again on every later hook
     std::string result_text;                ///< CallResult::Kind::text payload
     std::string resolved_path;              ///< output of resolve_* helpers for the sandbox functions
+    int opened_fd = -1;                     ///< a scene file opened for io.open/io.lines, closed after the call
 };
+
+/// Limits the watchdog may set from another thread or a signal handler (the parent process asks
+/// the loader process to stop): allocations fail and the hook raises at the next instruction.
+extern volatile std::sig_atomic_t stop_requested;
+
+/// Records the line the script is on (the first Lua function on the stack) in
+/// ctx.last_hook_location and the shared progress page. Never throws.
+void note_location(lua_State* L, LoaderContext& ctx) noexcept;
+/// True when the script must stop (time limit, cancel flag, watchdog): ctx.stop_message says why.
+bool limits_reached(LoaderContext& ctx) noexcept;
 
 /// The loader context stored in the state's extra space.
 LoaderContext& context(lua_State* L);
@@ -124,13 +156,13 @@ const Handle* to_handle(lua_State* L, int index);
 int handle_arg(lua_State* L, int index, HandleKind kind, const char* what);
 /// The receiver of a method (stack index 1) as a handle of `kind`.
 int self_arg(lua_State* L, HandleKind kind);
+/// Bytes held by a mesh's arrays.
+std::size_t mesh_bytes(const MeshData& mesh);
+
 /// "nil", "a number", "a node", "a bump map", ... for error messages.
 std::string describe_value(lua_State* L, int index);
 /// Short text for a number in messages ("nan", "-inf", "0.5").
 std::string format_number(double value);
-/// A file named by the script (mesh, image), relative to the main script's folder: absolute and
-/// normalised. Throws "cannot open 'name' (/abs/path): reason" when it cannot be read.
-std::filesystem::path resolve_scene_file(const LoaderContext& ctx, const std::string& as_written);
 
 // ---- registration ----
 
@@ -153,6 +185,10 @@ std::span<const GrFunction> gr_render_functions();
 void register_gr_api(lua_State* L);
 /// Pushes a new userdata for `handle` with the metatable of its kind.
 void push_handle(lua_State* L, const Handle& handle);
+
+/// Runs a script in this process (load_scene_script_in_process); `progress`, when given, is kept
+/// up to date with the line the script is on.
+SceneScript run_script(const std::string& path, const LoadSettings& settings, SharedProgress* progress);
 
 /// Opens base, table, string, math, utf8 and the restricted io, os, debug, package, require,
 /// module and load (lua_CFunction run under lua_pcall while the state is set up).

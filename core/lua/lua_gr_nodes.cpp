@@ -1,6 +1,7 @@
 // The node half of the gr API: primitives, meshes, CSG, hierarchy and transforms.
 // Transforms are recorded in call order; the renderer composes them under the convention in force.
 #include "core/lua/lua_context.h"
+#include "core/lua/scene_files.h"
 #include "core/mesh_obj.h"
 
 #include <cctype>
@@ -9,6 +10,7 @@ namespace caustica::scene_lua {
 namespace {
 
 int add_node(LoaderContext& ctx, NodeKind kind, std::string name, SourceLocation where) {
+    charge_append(ctx, ctx.scene.nodes, name.capacity() + where.file.capacity(), "scene nodes");
     NodeDesc node;
     node.name = std::move(name);
     node.kind = kind;
@@ -92,21 +94,23 @@ CallResult gr_nh_box(lua_State* L, LoaderContext& ctx) {
 CallResult gr_mesh(lua_State* L, LoaderContext& ctx) {
     expect_arguments(L, 1, 2, 2, "name, 'file.obj'");
     std::string name = string_arg(L, 1, "name");
-    const std::string file = string_arg(L, 2, "file name");
-    const std::filesystem::path path = resolve_scene_file(ctx, file);
+    const std::string as_written = string_arg(L, 2, "file name");
+    const SceneFile file = open_scene_file(ctx, as_written);
     int mesh = -1;
-    if (auto cached = ctx.mesh_cache.find(path.string()); cached != ctx.mesh_cache.end()) {
+    const std::pair<std::uint64_t, std::uint64_t> identity{file.device, file.inode};
+    if (auto cached = ctx.mesh_cache.find(identity); cached != ctx.mesh_cache.end()) {
         mesh = cached->second;
     } else {
         std::shared_ptr<const MeshData> data;
-        try {
-            data = load_obj_mesh(path.string());
-        } catch (const InputError& e) {
-            throw InputError("'" + file + "' (" + path.string() + "): " + e.what());
+        {
+            const std::string text = read_scene_file(ctx, file, "the mesh file");
+            data = parse_obj_mesh(text, as_written, file.path);
+            ctx.memory_used -= text.size();  // the text goes; the mesh is charged instead
         }
+        charge_memory(ctx, mesh_bytes(*data), "the mesh");
         ctx.scene.meshes.push_back(std::move(data));
         mesh = static_cast<int>(ctx.scene.meshes.size()) - 1;
-        ctx.mesh_cache.emplace(path.string(), mesh);
+        ctx.mesh_cache.emplace(identity, mesh);
     }
     const int index = add_node(ctx, NodeKind::mesh, std::move(name), caller_location(L));
     ctx.scene.nodes[index].mesh = mesh;
@@ -149,6 +153,7 @@ CallResult node_add_child(lua_State* L, LoaderContext& ctx) {
         throw InputError("adding '" + child_name + "' under '" + parent_name +
                          "' would make a cycle (a node cannot be its own descendant)");
     }
+    charge_append(ctx, ctx.scene.nodes[parent].children, 0, "child lists");
     ctx.scene.nodes[parent].children.push_back(child);
     return CallResult::nothing();
 }
@@ -168,6 +173,7 @@ glm::dvec3 three_numbers(lua_State* L) {
 
 void add_transform(lua_State* L, LoaderContext& ctx, int node, TransformOp op) {
     op.where = caller_location(L);
+    charge_append(ctx, ctx.scene.nodes[node].transforms, op.where.file.capacity(), "recorded transforms");
     ctx.scene.nodes[node].transforms.push_back(std::move(op));
 }
 

@@ -1,10 +1,12 @@
 // gr.render (the scene snapshot), gr.set_miss_colour, gr.option, and the registration of the whole
 // gr table with its handle metatables.
 #include "core/lua/lua_context.h"
+#include "core/lua/scene_files.h"
 
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <filesystem>
 
 namespace caustica::scene_lua {
 namespace {
@@ -21,6 +23,18 @@ int image_size_arg(lua_State* L, int index, const char* what) {
         throw InputError(std::string(what) + " " + format_number(value) + " is larger than the maximum of " +
                          std::to_string(max_image_side) + " pixels");
     return static_cast<int>(value);
+}
+
+/// Output names from a script are relative to the folder caustica runs in and stay below it:
+/// a scene may not write anywhere else (the user's -o may).
+void check_output_name(const std::string& name) {
+    if (name.find('\0') != std::string::npos) throw InputError("output file name contains a NUL byte");
+    const std::filesystem::path path(name);
+    const char* hint = " (scenes write below the current folder; use -o to choose another place)";
+    if (path.has_root_path())
+        throw InputError("output file name '" + name + "' must be relative, not absolute" + hint);
+    for (const auto& part : path)
+        if (part == "..") throw InputError("output file name '" + name + "' must not climb with '..'" + hint);
 }
 
 glm::dvec3 direction_arg(lua_State* L, int index, const char* what) {
@@ -42,6 +56,7 @@ CallResult render(lua_State* L, LoaderContext& ctx, bool method) {
     job.root = handle_arg(L, 1, HandleKind::node, "root");
     job.output = string_arg(L, 2, "output file name");
     if (job.output.empty()) throw InputError("output file name must not be empty");
+    if (!ctx.output_given) check_output_name(job.output);
     job.width = image_size_arg(L, 3, "width");
     job.height = image_size_arg(L, 4, "height");
     if (static_cast<double>(job.width) * job.height > max_image_pixels)
@@ -77,7 +92,9 @@ CallResult render(lua_State* L, LoaderContext& ctx, bool method) {
     }
     job.miss_colour = ctx.miss_colour;
     job.options = ctx.options;
+    job.option_origins = ctx.option_origins;
     job.where = caller_location(L);
+    charge_memory(ctx, ctx.scene_bytes + sizeof(RenderJob) + ctx.option_origins.size() * 64, "the scene snapshot of this gr.render");
     job.scene = std::make_shared<const SceneDesc>(ctx.scene);
     ctx.renders.push_back(std::move(job));
     return CallResult::nothing();
@@ -101,8 +118,19 @@ CallResult gr_option(lua_State* L, LoaderContext& ctx) {
     expect_arguments(L, 1, 1, 1, "'--flag --name value ...'");
     const std::string text = string_arg(L, 1, "options");
     Options options = ctx.options;  // all or nothing
-    apply_option_tokens(options, split_option_string(text));
+    const std::vector<std::string> tokens = split_option_string(text);
+    for (const std::string& token : tokens)
+        if (token.rfind("--allow-read", 0) == 0)
+            throw InputError("--allow-read is for the command line only: a scene cannot widen what it may read");
+    apply_option_tokens(options, tokens);
     ctx.options = options;
+    const SourceLocation where = caller_location(L);
+    for (const std::string& token : tokens) {
+        if (token.rfind("--", 0) != 0) continue;
+        std::string name = token.substr(2, token.find('=') == std::string::npos ? std::string::npos : token.find('=') - 2);
+        charge_memory(ctx, name.capacity() + where.file.capacity() + sizeof(SourceLocation), "option records");
+        ctx.option_origins.emplace_back(std::move(name), where);
+    }
     return CallResult::nothing();
 }
 
@@ -157,6 +185,8 @@ void make_metatable(lua_State* L, HandleKind kind, const char* type_name, const 
     lua_setfield(L, -2, "__tostring");
     lua_pushstring(L, type_name);
     lua_setfield(L, -2, "__name");
+    lua_pushliteral(L, "locked");  // getmetatable answers this: no __gc or other field can be added
+    lua_setfield(L, -2, "__metatable");
     lua_rawsetp(L, LUA_REGISTRYINDEX, &metatable_keys[static_cast<int>(kind)]);
 }
 

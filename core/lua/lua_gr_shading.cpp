@@ -1,9 +1,11 @@
 // The appearance half of the gr API: materials, textures, bump maps and lights.
 #include "core/lua/lua_context.h"
+#include "core/lua/scene_files.h"
+#include "core/png_io.h"
 
 #include <algorithm>
 #include <array>
-#include <fstream>
+#include <cstdint>
 
 namespace caustica::scene_lua {
 namespace {
@@ -24,6 +26,7 @@ void require_non_negative(const glm::dvec3& value, const char* what) {
 }
 
 int add_material(LoaderContext& ctx, MaterialDesc material) {
+    charge_append(ctx, ctx.scene.materials, material.where.file.capacity(), "materials");
     ctx.scene.materials.push_back(std::move(material));
     return static_cast<int>(ctx.scene.materials.size()) - 1;
 }
@@ -91,16 +94,28 @@ CallResult material_set_bumpmap(lua_State* L, LoaderContext& ctx) {
     return CallResult::nothing();
 }
 
-/// An image beside the script: absolute path, readable, with a PNG signature.
-std::string png_path(const LoaderContext& ctx, const std::string& as_written) {
-    const std::filesystem::path path = resolve_scene_file(ctx, as_written);
-    static constexpr unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    unsigned char head[8] = {};
-    std::ifstream file(path, std::ios::binary);
-    file.read(reinterpret_cast<char*>(head), sizeof head);
-    if (file.gcount() != sizeof head || !std::equal(head, head + 8, signature))
-        throw InputError("'" + as_written + "' (" + path.string() + ") is not a PNG file");
-    return path.string();
+/// Bytes a texel takes in the renderer's TextureImage (linear RGB and luminance, floats).
+constexpr std::uint64_t texel_bytes = 16;
+
+/// Decodes an image beside the script (once per file, whatever name it is given under), with its
+/// pixels charged to the memory budget before libpng allocates them.
+std::shared_ptr<const Png8> decode_image(LoaderContext& ctx, const std::string& as_written, std::string& resolved) {
+    const SceneFile file = open_scene_file(ctx, as_written);
+    resolved = file.path;
+    const std::pair<std::uint64_t, std::uint64_t> identity{file.device, file.inode};
+    if (auto cached = ctx.image_cache.find(identity); cached != ctx.image_cache.end()) return cached->second;
+    const std::string bytes = read_scene_file(ctx, file, "the image file");
+    const std::span<const unsigned char> encoded(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size());
+    PngReadLimits limits;
+    limits.budget_name = "texture";
+    const PngHeader header = read_png_header(encoded, file.shown, limits);
+    // The decoded pixels now, and the renderer's linear texels and luminance later.
+    const std::uint64_t texels = std::uint64_t(header.width) * std::uint64_t(header.height);
+    charge_memory(ctx, static_cast<std::size_t>(header.decoded_bytes() + texels * texel_bytes), "the decoded image");
+    auto image = std::make_shared<const Png8>(read_png_memory(encoded, file.shown, limits));
+    ctx.memory_used -= bytes.size();  // the file's bytes go; the pixels stay
+    ctx.image_cache.emplace(identity, image);
+    return image;
 }
 
 CallResult add_texture(lua_State* L, LoaderContext& ctx, bool bumpmap) {
@@ -114,9 +129,10 @@ CallResult add_texture(lua_State* L, LoaderContext& ctx, bool bumpmap) {
         texture.source = "sinewaves";  // "ripple" is the same procedural bump map
         texture.procedural = true;
     } else {
-        texture.source = png_path(ctx, source);
+        texture.image = decode_image(ctx, source, texture.source);
     }
     texture.where = caller_location(L);
+    charge_append(ctx, ctx.scene.textures, texture.source.capacity() + texture.where.file.capacity(), "textures");
     ctx.scene.textures.push_back(std::move(texture));
     ctx.texture_is_bumpmap.push_back(bumpmap);
     return CallResult::of(HandleKind::texture, static_cast<int>(ctx.scene.textures.size()) - 1);
@@ -146,6 +162,7 @@ CallResult gr_light(lua_State* L, LoaderContext& ctx) {
     if (light.falloff == glm::dvec3(0.0))
         throw InputError("falloff must not be all zero (intensity is divided by c0 + c1 d + c2 d^2)");
     light.where = caller_location(L);
+    charge_append(ctx, ctx.scene.lights, light.where.file.capacity(), "lights");
     ctx.scene.lights.push_back(std::move(light));
     return CallResult::of(HandleKind::light, static_cast<int>(ctx.scene.lights.size()) - 1);
 }

@@ -6,6 +6,9 @@
 // The C functions here are written in C style (no C++ object alive across a Lua call that may
 // raise); the little C++ they need runs in noexcept helpers that leave their answer in the context.
 #include "core/lua/lua_context.h"
+#include "core/lua/scene_files.h"
+
+#include <unistd.h>
 
 #include <cctype>
 #include <cerrno>
@@ -22,43 +25,44 @@ namespace fs = std::filesystem;
 /// Value stored in package.loaded while a module is running (detects require loops).
 char loading_sentinel;
 
-bool is_within(const fs::path& root, const fs::path& path) {
-    auto r = root.begin();
-    auto p = path.begin();
-    for (; r != root.end(); ++r, ++p) {
-        if (r->empty()) continue;  // trailing separator
-        if (p == path.end() || *r != *p) return false;
-    }
-    return true;
-}
-
-/// Resolves a path the script wants to read: relative to the scene folder, symlinks followed, and
-/// refused when it leads outside. Leaves the absolute path in ctx.resolved_path or the reason in
-/// ctx.pending_error.
-bool resolve_for_reading(LoaderContext& ctx, const char* path) noexcept {
+/// Opens a file the script wants to read (scene_files.h rules); the descriptor goes to
+/// ctx.opened_fd, the reason for a refusal to ctx.pending_error. Never throws.
+bool open_for_reading(LoaderContext& ctx, const char* path) noexcept {
     try {
-        if (!*path) {
-            ctx.pending_error = "the file name is empty";
-            return false;
-        }
-        fs::path wanted(path);
-        if (wanted.is_relative()) wanted = ctx.scene_dir / wanted;
-        std::error_code error;
-        fs::path resolved = fs::weakly_canonical(wanted, error);
-        if (error) resolved = wanted.lexically_normal();
-        if (!is_within(ctx.scene_dir, resolved)) {
-            std::string message(1, '\'');
-            message.append(path).append("' is outside the scene folder (scripts may read only files under ");
-            message.append(ctx.scene_dir.string()).append(")");
-            ctx.pending_error = std::move(message);
-            return false;
-        }
-        ctx.resolved_path = resolved.string();
+        SceneFile file = open_scene_file(ctx, path);
+        ctx.opened_fd = file.fd.release();
+        ctx.resolved_path = "/proc/self/fd/" + std::to_string(ctx.opened_fd);
         return true;
+    } catch (const std::exception& e) {
+        try {
+            ctx.pending_error = e.what();
+        } catch (...) {
+            ctx.pending_error = "out of memory";
+        }
     } catch (...) {
         ctx.pending_error = "out of memory";
-        return false;
     }
+    return false;
+}
+
+/// Closes ctx.opened_fd once the real io function has opened its own handle on the file.
+void close_opened(LoaderContext& ctx) noexcept {
+    if (ctx.opened_fd >= 0) ::close(ctx.opened_fd);
+    ctx.opened_fd = -1;
+}
+
+/// Calls the real io function (upvalue 1) on the opened file with the arguments from stack index
+/// 2 on; the results replace the stack. Errors are raised after the descriptor is closed.
+int call_real_io(lua_State* L) {
+    LoaderContext& ctx = context(L);
+    lua_pushstring(L, ctx.resolved_path.c_str());
+    lua_replace(L, 1);
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    const int status = lua_pcall(L, lua_gettop(L) - 1, LUA_MULTRET, 0);
+    close_opened(ctx);
+    if (status != LUA_OK) return lua_error(L);
+    return lua_gettop(L);
 }
 
 /// Finds `name`.lua beside the main script or in include/ beside it (dots become folders).
@@ -81,17 +85,24 @@ bool find_module_file(LoaderContext& ctx, const char* name) noexcept {
             return false;
         }
         relative += ".lua";
-        const fs::path candidates[] = {ctx.script_dir_as_given / relative,
-                                       ctx.script_dir_as_given / "include" / relative};
+        const fs::path candidates[] = {relative, fs::path("include") / relative};
         for (const fs::path& candidate : candidates) {
             std::error_code error;
-            if (fs::is_regular_file(candidate, error)) {
-                ctx.resolved_path = candidate.string();
-                return true;
-            }
+            if (!fs::exists(fs::symlink_status(ctx.scene_dir / candidate, error))) continue;
+            const SceneFile file = open_scene_file(ctx, candidate.string());
+            ctx.result_text = read_scene_file(ctx, file, "the module");
+            ctx.resolved_path = (ctx.script_dir_as_given / candidate).string();
+            return true;
         }
-        ctx.pending_error = "module '" + std::string(name) + "' not found (looked for " + candidates[0].string() +
-                            " and " + candidates[1].string() + ")";
+        ctx.pending_error = "module '" + std::string(name) + "' not found (looked for " +
+                            (ctx.script_dir_as_given / candidates[0]).string() + " and " +
+                            (ctx.script_dir_as_given / candidates[1]).string() + ")";
+    } catch (const std::exception& e) {
+        try {
+            ctx.pending_error = e.what();
+        } catch (...) {
+            ctx.pending_error = "out of memory";
+        }
     } catch (...) {
         ctx.pending_error = "out of memory";
     }
@@ -117,18 +128,14 @@ int sandbox_io_open(lua_State* L) {
     const char* mode = luaL_optstring(L, 2, "r");
     if (std::strpbrk(mode, "wa+")) return luaL_error(L, "io.open: scripts cannot write files (mode '%s')", mode);
     LoaderContext& ctx = context(L);
-    if (!resolve_for_reading(ctx, path)) {
+    if (!open_for_reading(ctx, path)) {
         luaL_pushfail(L);
         lua_pushstring(L, ctx.pending_error.c_str());
         lua_pushinteger(L, EACCES);
         return 3;
     }
     lua_settop(L, 2);
-    lua_pushvalue(L, lua_upvalueindex(1));  // the real io.open
-    lua_pushstring(L, ctx.resolved_path.c_str());
-    lua_pushstring(L, mode);
-    lua_call(L, 2, LUA_MULTRET);
-    return lua_gettop(L) - 2;
+    return call_real_io(L);
 }
 
 int sandbox_io_lines(lua_State* L) {
@@ -136,18 +143,8 @@ int sandbox_io_lines(lua_State* L) {
         return luaL_error(L, "io.lines: a file name is required (scripts cannot read standard input)");
     const char* path = luaL_checkstring(L, 1);
     LoaderContext& ctx = context(L);
-    if (!resolve_for_reading(ctx, path)) return luaL_error(L, "io.lines: %s", ctx.pending_error.c_str());
-    if (std::FILE* file = std::fopen(ctx.resolved_path.c_str(), "r")) {
-        std::fclose(file);
-    } else {
-        return luaL_error(L, "io.lines: cannot open '%s': %s", path, std::strerror(errno));
-    }
-    lua_pushstring(L, ctx.resolved_path.c_str());
-    lua_replace(L, 1);
-    lua_pushvalue(L, lua_upvalueindex(1));  // the real io.lines
-    lua_insert(L, 1);
-    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
-    return lua_gettop(L);
+    if (!open_for_reading(ctx, path)) return luaL_error(L, "io.lines: %s", ctx.pending_error.c_str());
+    return call_real_io(L);
 }
 
 /// io keeps open/lines (wrapped), close, type, write (to standard output), stdout and stderr.
@@ -218,6 +215,164 @@ int math_pow(lua_State* L) {
 int table_getn(lua_State* L) {
     lua_pushinteger(L, luaL_len(L, 1));
     return 1;
+}
+
+// ---- what the count hook cannot see ----
+
+/// debug.getinfo without the 'f' option: a script must never get hold of a function object from
+/// the call stack (the real `load` is on it while a reader function runs, and it accepts binary
+/// chunks). Without an option string it answers "lnSrtu", the default less 'f'.
+int getinfo_without_functions(lua_State* L) {
+    if (lua_type(L, 1) == LUA_TTHREAD) return luaL_error(L, "debug.getinfo: threads are not available in scene scripts");
+    lua_settop(L, 2);
+    if (lua_isnil(L, 2)) {
+        lua_pushliteral(L, "lnSrtu");
+    } else {
+        const char* requested = luaL_checkstring(L, 2);
+        luaL_Buffer options;
+        luaL_buffinit(L, &options);
+        for (const char* c = requested; *c; ++c)
+            if (*c != 'f' && *c != '>') luaL_addchar(&options, *c);
+        luaL_pushresult(&options);
+    }
+    lua_replace(L, 2);
+    if (lua_isinteger(L, 1)) {  // levels as the script counts them: this wrapper is not one
+        const lua_Integer level = lua_tointeger(L, 1);
+        if (level >= 0 && level < LUA_MAXINTEGER) lua_pushinteger(L, level + 1);
+        else lua_pushvalue(L, 1);
+        lua_replace(L, 1);
+    }
+    lua_pushvalue(L, lua_upvalueindex(1));  // the real debug.getinfo
+    lua_insert(L, 1);
+    lua_call(L, 2, 1);
+    return 1;
+}
+
+/// Raises the stop message when the time limit, the cancel flag or the watchdog says so.
+void stop_if_limits_reached(lua_State* L) {
+    LoaderContext& ctx = context(L);
+    if (ctx.stop_message.empty()) note_location(L, ctx);
+    if (!limits_reached(ctx)) return;
+    lua_pushstring(L, ctx.stop_message.c_str());
+    lua_error(L);
+}
+
+/// Comparator for table.sort: the script's (upvalue 1) or `<`, with the limits checked every few
+/// thousand comparisons (a sort of numbers never runs an instruction the hook could count).
+int bounded_less(lua_State* L) {
+    LoaderContext& ctx = context(L);
+    if ((++ctx.library_steps & 0xfff) == 0) stop_if_limits_reached(L);
+    if (lua_isnil(L, lua_upvalueindex(1))) {
+        lua_pushboolean(L, lua_compare(L, 1, 2, LUA_OPLT));
+        return 1;
+    }
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, 2, 1);
+    return 1;
+}
+
+/// table.sort(t [, comp]) through bounded_less.
+int bounded_sort(lua_State* L) {
+    note_location(L, context(L));
+    luaL_checktype(L, 1, LUA_TTABLE);
+    if (!lua_isnoneornil(L, 2)) luaL_checktype(L, 2, LUA_TFUNCTION);
+    lua_settop(L, 2);
+    lua_pushcclosure(L, bounded_less, 1);
+    lua_pushvalue(L, lua_upvalueindex(1));  // the real table.sort
+    lua_insert(L, 1);
+    lua_call(L, 2, 0);
+    return 0;
+}
+
+/// table.move(a1, f, e, t [, a2]) with the limits checked as it goes (the library's loop runs in
+/// C: table.move({}, 1, 1e15, 2) would never end).
+int bounded_move(lua_State* L) {
+    luaL_checktype(L, 1, LUA_TTABLE);
+    const lua_Integer first = luaL_checkinteger(L, 2);
+    const lua_Integer last = luaL_checkinteger(L, 3);
+    const lua_Integer target = luaL_checkinteger(L, 4);
+    const int destination = lua_isnoneornil(L, 5) ? 1 : 5;
+    luaL_checktype(L, destination, LUA_TTABLE);
+    if (last >= first) {
+        luaL_argcheck(L, first > 0 || last < LUA_MAXINTEGER + first, 3, "too many elements to move");
+        const lua_Integer count = last - first;
+        luaL_argcheck(L, target <= LUA_MAXINTEGER - count, 4, "destination wrap around");
+        LoaderContext& ctx = context(L);
+        const bool backwards = target > first && target <= last && lua_compare(L, 1, destination, LUA_OPEQ);
+        for (lua_Integer i = 0; i <= count; ++i) {
+            if ((++ctx.library_steps & 0xfff) == 0) stop_if_limits_reached(L);
+            const lua_Integer k = backwards ? count - i : i;
+            lua_geti(L, 1, first + k);
+            lua_seti(L, destination, target + k);
+        }
+    }
+    lua_pushvalue(L, destination);
+    return 1;
+}
+
+/// Library functions that may run long inside one C call (string patterns, string.rep,
+/// table.concat) go through this: it records the caller's line first, so that should the loader
+/// process have to be stopped from outside, the message names the line that was running.
+int noting_location(lua_State* L) {
+    note_location(L, context(L));
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    if (lua_pcall(L, lua_gettop(L) - 1, LUA_MULTRET, 0) != LUA_OK) {
+        // Called from here, the library function cannot find its own name: "bad argument #1 to
+        // '?'" gets it back from upvalue 2.
+        if (const char* message = lua_tostring(L, -1); message && lua_type(L, -1) == LUA_TSTRING) {
+            if (const char* unnamed = std::strstr(message, "to '?'")) {
+                lua_pushlstring(L, message, static_cast<std::size_t>(unnamed - message));
+                lua_pushfstring(L, "to '%s'%s", lua_tostring(L, lua_upvalueindex(2)), unnamed + 6);
+                lua_concat(L, 2);
+            }
+        }
+        return lua_error(L);
+    }
+    return lua_gettop(L);
+}
+
+void wrap_field(lua_State* L, const char* table, const char* field, lua_CFunction wrapper) {
+    lua_getglobal(L, table);
+    lua_getfield(L, -1, field);
+    lua_pushstring(L, field);
+    lua_pushcclosure(L, wrapper, 2);
+    lua_setfield(L, -2, field);
+    lua_pop(L, 1);
+}
+
+/// Gives a shared metatable a __metatable field: getmetatable then answers a string, so a script
+/// cannot add __gc (finalizers run with hooks off) or change how other values behave.
+void lock_metatable(lua_State* L) {
+    lua_pushliteral(L, "locked");
+    lua_setfield(L, -2, "__metatable");
+}
+
+void lock_shared_metatables(lua_State* L) {
+    luaL_getmetatable(L, LUA_FILEHANDLE);
+    lock_metatable(L);
+    lua_pop(L, 1);
+    lua_pushliteral(L, "");
+    lua_getmetatable(L, -1);
+    lock_metatable(L);
+    lua_pop(L, 2);
+}
+
+void bound_library_calls(lua_State* L) {
+    wrap_field(L, LUA_TABLIBNAME, "sort", bounded_sort);
+    lua_getglobal(L, LUA_TABLIBNAME);
+    lua_pushcfunction(L, bounded_move);
+    lua_setfield(L, -2, "move");
+    lua_pop(L, 1);
+    for (const char* field : {"find", "match", "gmatch", "gsub", "rep"}) wrap_field(L, LUA_STRLIBNAME, field, noting_location);
+    wrap_field(L, LUA_TABLIBNAME, "concat", noting_location);
+    lua_getglobal(L, LUA_DBLIBNAME);
+    lua_getfield(L, -1, "getinfo");
+    lua_pushcclosure(L, getinfo_without_functions, 1);
+    lua_setfield(L, -2, "getinfo");
+    lua_pop(L, 1);
+    lock_shared_metatables(L);
 }
 
 // ---- the Lua 5.1 module system ----
@@ -327,7 +482,13 @@ int require_function(lua_State* L) {
     LoaderContext& ctx = context(L);
     if (!find_module_file(ctx, name)) return luaL_error(L, "require: %s", ctx.pending_error.c_str());
     lua_pushstring(L, ctx.resolved_path.c_str());  // 3
-    if (luaL_loadfilex(L, lua_tostring(L, 3), "t") != LUA_OK) return lua_error(L);  // 4
+    lua_pushfstring(L, "@%s", ctx.resolved_path.c_str());
+    const int loaded = luaL_loadbufferx(L, ctx.result_text.data(), ctx.result_text.size(), lua_tostring(L, -1), "t");
+    ctx.memory_used -= ctx.result_text.size();  // charged by read_scene_file; the text goes now
+    ctx.result_text.clear();
+    ctx.result_text.shrink_to_fit();
+    if (loaded != LUA_OK) return lua_error(L);
+    lua_remove(L, -2);  // 4
     lua_pushlightuserdata(L, &loading_sentinel);
     lua_setfield(L, 2, name);
     lua_pushvalue(L, 1);
@@ -411,6 +572,7 @@ int open_sandboxed_libraries(lua_State* L) {
     keep_only(L, LUA_DBLIBNAME, luaopen_debug, {"getinfo", "traceback"});
     open_package(L);
     register_gr_api(L);
+    bound_library_calls(L);
     return 0;
 }
 

@@ -4,10 +4,19 @@
 
 #include "core/lua/lua_context.h"
 
+#include "core/lua/scene_files.h"
+
+#include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <cstring>
 
 namespace caustica {
+
+namespace scene_lua {
+volatile std::sig_atomic_t stop_requested = 0;
+}
+
 namespace {
 
 using namespace scene_lua;
@@ -15,7 +24,37 @@ using namespace scene_lua;
 /// Instructions between two runs of the limit-checking hook.
 constexpr int hook_interval = 1000;
 
-/// lua_Alloc that counts the heap and refuses to grow it past the limit (Lua raises LUA_ERRMEM).
+/// Copies a Lua location into ctx.last_hook_location and the shared progress page.
+void record_location(LoaderContext& ctx, const lua_Debug& ar) {
+    SourceLocation& last = ctx.last_hook_location;
+    last.line = ar.currentline;
+    if (const char* source = ar.source; source && (*source == '@' || *source == '=')) {
+        if (last.file.compare(source + 1) != 0) last.file.assign(source + 1);
+    } else {
+        last.file = ar.short_src;
+    }
+    if (SharedProgress* shared = ctx.shared_progress) {
+        shared->line = last.line;
+        const std::size_t n = std::min(last.file.size(), sizeof shared->file - 1);
+        if (std::memcmp(shared->file, last.file.data(), n) != 0 || shared->file[n] != 0) {
+            std::memcpy(shared->file, last.file.data(), n);
+            shared->file[n] = 0;
+        }
+    }
+}
+
+/// The location of the allocation being refused, for the memory message (a short script may fail
+/// before the count hook has run once).
+void note_refusal_location(LoaderContext& ctx) noexcept {
+    if (ctx.L && !ctx.finished && !ctx.noting_location) {
+        ctx.noting_location = true;
+        note_location(ctx.L, ctx);
+        ctx.noting_location = false;
+    }
+}
+
+/// lua_Alloc that counts the heap and refuses to grow it past the limit (Lua raises LUA_ERRMEM),
+/// or at all once the watchdog asked the script to stop.
 void* counting_alloc(void* ud, void* block, size_t old_size, size_t new_size) noexcept {
     auto& ctx = *static_cast<LoaderContext*>(ud);
     const size_t old_bytes = block ? old_size : 0;  // without a block, old_size is a type tag
@@ -24,47 +63,35 @@ void* counting_alloc(void* ud, void* block, size_t old_size, size_t new_size) no
         ctx.memory_used -= old_bytes;
         return nullptr;
     }
+    if (new_size > old_bytes && stop_requested) return nullptr;
     if (new_size > old_bytes && ctx.memory_limit != 0 &&
         ctx.memory_used - old_bytes + new_size > ctx.memory_limit) {
         ctx.memory_exceeded = true;
+        note_refusal_location(ctx);
         return nullptr;
     }
     void* resized = std::realloc(block, new_size);
-    if (!resized) return new_size <= old_bytes ? block : nullptr;  // Lua assumes shrinking never fails
+    if (!resized) {
+        if (new_size <= old_bytes) return block;  // Lua assumes shrinking never fails
+        note_refusal_location(ctx);
+        return nullptr;
+    }
     ctx.memory_used = ctx.memory_used - old_bytes + new_size;
     return resized;
 }
 
-/// Records where the script is and decides whether it must stop; the message goes to
-/// ctx.stop_message. Never throws.
+std::string stop_location(const LoaderContext& ctx) {
+    return ctx.last_hook_location.file.empty() ? ctx.script_path : ctx.last_hook_location.str();
+}
+
+/// Records where the script is (from the hook's activation record) and decides whether it must
+/// stop. Never throws.
 bool may_continue(lua_State* L, lua_Debug* ar, LoaderContext& ctx) noexcept {
     try {
-        if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0) {
-            SourceLocation& last = ctx.last_hook_location;
-            last.line = ar->currentline;
-            if (const char* source = ar->source; source && (*source == '@' || *source == '=')) {
-                if (last.file.compare(source + 1) != 0) last.file.assign(source + 1);
-            } else {
-                last.file = ar->short_src;
-            }
-        }
-        if (!ctx.stop_message.empty()) return false;  // once stopped, a pcall cannot resume the script
-        auto where = [&] {
-            return ctx.last_hook_location.file.empty() ? ctx.script_path : ctx.last_hook_location.str();
-        };
-        if (ctx.cancel && ctx.cancel->load(std::memory_order_relaxed)) {
-            ctx.cancelled = true;
-            ctx.stop_message = where() + ": interrupted";
-        } else if (ctx.timeout_seconds > 0.0 && std::chrono::steady_clock::now() >= ctx.deadline) {
-            ctx.timed_out = true;
-            ctx.stop_message =
-                where() + ": script stopped after " + format_number(ctx.timeout_seconds) + " s (--script-timeout)";
-        } else {
-            return true;
-        }
+        if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0) record_location(ctx, *ar);
     } catch (...) {
-        ctx.stop_message = "out of memory";
     }
+    if (!limits_reached(ctx)) return true;
     lua_sethook(L, lua_gethook(L), LUA_MASKCOUNT, 1);  // raise again at every instruction
     return false;
 }
@@ -80,8 +107,16 @@ void count_hook(lua_State* L, lua_Debug* ar) {
 void collect_warning(void* ud, const char* message, int to_continue) noexcept {
     auto& ctx = *static_cast<LoaderContext*>(ud);
     try {
-        if (ctx.finished) return;
+        if (ctx.finished || !ctx.stop_message.empty()) return;
         if (ctx.warning_in_progress.empty() && !to_continue && message[0] == '@') return;  // "@on", "@off"
+        try {
+            charge_memory(ctx, std::strlen(message), "warnings");
+        } catch (const InputError& e) {
+            // No Lua error can be raised from here: the hook raises it at the next instruction.
+            ctx.stop_message = caller_location(ctx.L, 1).str() + ": warn: " + e.what();
+            lua_sethook(ctx.L, count_hook, LUA_MASKCOUNT, 1);
+            return;
+        }
         ctx.warning_in_progress += message;
         if (to_continue) return;
         const SourceLocation where = caller_location(ctx.L, 1);
@@ -127,10 +162,12 @@ int message_handler(lua_State* L) {
     return 1;
 }
 
-/// Compiles the main chunk (text only) from the path passed as a light userdata.
+/// Compiles the main chunk (text only) from ctx.result_text, named "@" + the script's path.
 int load_main_chunk(lua_State* L) {
-    const char* path = static_cast<const char*>(lua_touserdata(L, 1));
-    if (luaL_loadfilex(L, path, "t") != LUA_OK) return lua_error(L);
+    LoaderContext& ctx = context(L);
+    lua_pushfstring(L, "@%s", ctx.script_path.c_str());
+    if (luaL_loadbufferx(L, ctx.result_text.data(), ctx.result_text.size(), lua_tostring(L, -1), "t") != LUA_OK)
+        return lua_error(L);
     return 1;
 }
 
@@ -148,14 +185,14 @@ std::string error_text(lua_State* L) {
     }
 }
 
-std::string failure_message(lua_State* L, const LoaderContext& ctx, int status) {
+std::string failure_message(lua_State* L, LoaderContext& ctx, int status) {
+    if (stop_requested) limits_reached(ctx);
     if (!ctx.stop_message.empty()) return ctx.stop_message;
     if (status == LUA_ERRMEM) {
-        const std::string where =
-            ctx.last_hook_location.file.empty() ? ctx.script_path : ctx.last_hook_location.str();
-        if (!ctx.memory_exceeded) return where + ": out of memory";
-        return where + ": script exceeded the memory limit of " +
-               format_number(static_cast<double>(ctx.memory_limit) / (1024.0 * 1024.0)) + " MiB";
+        if (!ctx.memory_exceeded) return stop_location(ctx) + ": out of memory";
+        return stop_location(ctx) + ": script exceeded the memory limit of " +
+               format_number(static_cast<double>(ctx.memory_limit) / (1024.0 * 1024.0)) +
+               " MiB (Lua heap and scene data; --script-memory sets it)";
     }
     return error_text(L);
 }
@@ -183,17 +220,60 @@ private:
 
 }  // namespace
 
-SceneScript load_scene_script(const std::string& path, const LoadSettings& settings) {
+namespace scene_lua {
+
+void note_location(lua_State* L, LoaderContext& ctx) noexcept {
+    try {
+        lua_Debug ar;
+        for (int level = 0; lua_getstack(L, level, &ar); ++level) {
+            if (!lua_getinfo(L, "Sl", &ar)) break;
+            if (ar.currentline > 0) {
+                record_location(ctx, ar);
+                return;
+            }
+        }
+    } catch (...) {
+    }
+}
+
+bool limits_reached(LoaderContext& ctx) noexcept {
+    try {
+        if (!ctx.stop_message.empty()) return true;  // once stopped, a pcall cannot resume the script
+        if ((ctx.cancel && ctx.cancel->load(std::memory_order_relaxed)) || stop_requested == 2) {
+            ctx.cancelled = true;
+            ctx.stop_message = stop_location(ctx) + ": interrupted";
+        } else if (stop_requested ||
+                   (ctx.timeout_seconds > 0.0 && std::chrono::steady_clock::now() >= ctx.deadline)) {
+            ctx.timed_out = true;
+            ctx.stop_message = stop_location(ctx) + ": script stopped after " + format_number(ctx.timeout_seconds) +
+                               " s (--script-timeout)";
+        } else {
+            return false;
+        }
+    } catch (...) {
+        ctx.stop_message = "out of memory";
+    }
+    return true;
+}
+
+}  // namespace scene_lua
+
+SceneScript scene_lua::run_script(const std::string& path, const LoadSettings& settings, SharedProgress* progress) {
     namespace fs = std::filesystem;
     LoaderContext ctx;
     ctx.script_path = path;
     ctx.script_dir_as_given = fs::path(path).parent_path();
+    ctx.result_text = read_main_script(path, settings.memory_limit_bytes);
     std::error_code error;
     const fs::path folder = fs::absolute(path, error).parent_path();
-    ctx.scene_dir = fs::weakly_canonical(folder, error);
-    if (error) ctx.scene_dir = folder.lexically_normal();
+    ctx.scene_dir = real_folder(folder.string(), "the scene's folder");
+    ctx.read_roots.push_back(ctx.scene_dir);
+    for (const std::string& allowed : settings.allow_read) ctx.read_roots.push_back(real_folder(allowed, "--allow-read"));
+    ctx.output_given = settings.output_given;
     ctx.options = settings.base_options;
     ctx.memory_limit = settings.memory_limit_bytes;
+    ctx.shared_progress = progress;
+    ctx.memory_used = ctx.result_text.size();
     ctx.timeout_seconds = settings.timeout_seconds;
     ctx.cancel = settings.cancel;
     if (ctx.cancel && ctx.cancel->load()) throw ScriptCancelled();
@@ -220,8 +300,9 @@ SceneScript load_scene_script(const std::string& path, const LoadSettings& setti
     // debug.getinfo(2) is nil ("run as main").
     lua_pushcfunction(L, message_handler);
     lua_pushcfunction(L, load_main_chunk);
-    lua_pushlightuserdata(L, const_cast<char*>(path.c_str()));
-    int status = lua_pcall(L, 1, 1, 0);
+    int status = lua_pcall(L, 0, 1, 0);
+    ctx.memory_used -= std::min(ctx.memory_used, ctx.result_text.size());  // the text goes; the chunk stays
+    std::string().swap(ctx.result_text);
     if (status == LUA_OK) status = lua_pcall(L, 0, 0, 1);
     if (status != LUA_OK) {
         const std::string message = failure_message(L, ctx, status);
@@ -237,6 +318,10 @@ SceneScript load_scene_script(const std::string& path, const LoadSettings& setti
     script.renders = std::move(ctx.renders);
     script.warnings = std::move(ctx.warnings);
     return script;
+}
+
+SceneScript load_scene_script_in_process(const std::string& path, const LoadSettings& settings) {
+    return scene_lua::run_script(path, settings, nullptr);
 }
 
 }  // namespace caustica

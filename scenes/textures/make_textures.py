@@ -5,7 +5,7 @@ Only the standard library: zlib and struct write the PNGs. Every image is comput
 repository holds no downloaded or hand-painted pixels. Values are written as linear 8-bit
 (caustica reads a byte b as b / 255, with no gamma curve: docs/TEXTURES.md).
 
-    python3 assets/textures/make_textures.py            # writes the PNGs beside this script
+    python3 scenes/textures/make_textures.py            # writes the PNGs beside this script
 """
 import math
 import os
