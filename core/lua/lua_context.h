@@ -7,6 +7,7 @@
 // (pushing results, lua_error) happens after every C++ object of the call is gone.
 #pragma once
 
+#include "core/lua/loader_child.h"
 #include "core/lua/scene_loader.h"
 
 #include <lua.hpp>
@@ -39,13 +40,6 @@ struct Handle {
 
 /// Marks a userdata as a caustica handle.
 inline constexpr std::uint32_t handle_magic = 0xCA05771Cu;
-
-/// Where the script is, kept where the parent process can read it should it have to stop the
-/// loader process from outside (a page shared between the two).
-struct SharedProgress {
-    int line = 0;
-    char file[1024] = {};
-};
 
 /// Everything a running script builds and the limits it runs under; lives as long as the lua_State.
 struct LoaderContext {

@@ -1,18 +1,19 @@
-// load_scene_script: the script runs in a child process, so that nothing it does can outlast its
-// limits or harm the caller. The parent is the watchdog: it asks the child to stop at the time
-// limit (SIGUSR1: allocations fail, the hook raises), stops it for good a grace period later or at
-// once on cancel (SIGKILL), and turns a crash of the interpreter into an error message. The child
-// runs under an address-space cap besides the loader's own budget, and sends back its SceneScript
-// as bytes (scene_wire.h) or its error.
-#include "core/lua/lua_context.h"
+// load_scene_script: the script runs in a child process (caustica-scene-loader, started fresh:
+// a fork of a threaded caller could inherit a lock another thread held), so that nothing it does
+// can outlast its limits or harm the caller. The parent is the watchdog: it asks the child to stop
+// at the time limit (SIGUSR1: allocations fail, the hook raises), stops it for good a grace period
+// later or at once on cancel (SIGKILL), and turns a crash of the interpreter into an error
+// message. The child runs under a data-segment cap besides the loader's own budget, and sends back
+// its SceneScript as bytes (scene_wire.h) or its error (loader_child.h has the protocol).
+#include "core/lua/loader_child.h"
 #include "core/lua/scene_wire.h"
+
+#include <spawn.h>
 
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/mman.h>
-#include <sys/prctl.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,16 +21,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <new>
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define CAUSTICA_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define CAUSTICA_SANITIZED 1
-#endif
-#endif
+extern char** environ;
 
 namespace caustica {
 namespace {
@@ -41,21 +34,25 @@ using Clock = std::chrono::steady_clock;
 constexpr auto stop_request_delay = std::chrono::milliseconds(200);
 /// From the request to stop to the hard stop.
 constexpr auto grace_period = std::chrono::milliseconds(800);
-/// What the child may use besides the script's budget (the interpreter, the C++ heap, the reply).
-constexpr std::size_t address_space_slack = std::size_t(512) << 20;
 
-/// The page the child writes its current line to, shared with the parent.
+/// The page the child writes its current line to, shared with the parent through a memfd.
 class SharedPage {
 public:
     SharedPage() {
-        void* page = ::mmap(nullptr, sizeof(SharedProgress), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-        if (page == MAP_FAILED) throw std::runtime_error(std::string("cannot map a shared page: ") + std::strerror(errno));
+        fd_ = ::memfd_create("caustica-scene-progress", MFD_CLOEXEC);
+        if (fd_ < 0 || ::ftruncate(fd_, sizeof(SharedProgress)) != 0) fail("cannot make a shared page");
+        void* page = ::mmap(nullptr, sizeof(SharedProgress), PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
+        if (page == MAP_FAILED) fail("cannot map a shared page");
         progress_ = new (page) SharedProgress();
     }
-    ~SharedPage() { ::munmap(progress_, sizeof(SharedProgress)); }
+    ~SharedPage() {
+        if (progress_) ::munmap(progress_, sizeof(SharedProgress));
+        if (fd_ >= 0) ::close(fd_);
+    }
     SharedPage(const SharedPage&) = delete;
     SharedPage& operator=(const SharedPage&) = delete;
 
+    int fd() const { return fd_; }
     SharedProgress* get() const { return progress_; }
     /// "file:line" of the last line the child reported, or `fallback`.
     std::string where(const std::string& fallback) const {
@@ -65,25 +62,14 @@ public:
     }
 
 private:
+    [[noreturn]] void fail(const char* what) {
+        const int error = errno;
+        if (fd_ >= 0) ::close(fd_);
+        throw std::runtime_error(std::string(what) + ": " + std::strerror(error));
+    }
+    int fd_ = -1;
     SharedProgress* progress_ = nullptr;
 };
-
-void on_stop_request(int) { stop_requested = 1; }
-
-/// VmData of this process in bytes (0 when /proc cannot say).
-std::size_t data_segment_bytes() {
-    std::ifstream status("/proc/self/status");
-    std::string key;
-    while (status >> key) {
-        if (key == "VmData:") {
-            std::size_t kib = 0;
-            status >> kib;
-            return kib << 10;
-        }
-        status.ignore(1 << 16, '\n');
-    }
-    return 0;
-}
 
 bool write_all(int fd, const char* data, std::size_t size) {
     while (size) {
@@ -96,52 +82,55 @@ bool write_all(int fd, const char* data, std::size_t size) {
     return true;
 }
 
-/// The child: runs the script and writes one reply, a kind letter and its payload:
-/// 'O' + scene bytes, 'E' + message (InputError), 'C' (cancelled), 'X' + message (anything else).
-[[noreturn]] void run_child(int out, const std::string& path, const LoadSettings& settings, SharedProgress* progress,
-                            pid_t parent) {
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(1);
-    ::signal(SIGINT, SIG_IGN);  // the parent stops the child on Ctrl-C
-    ::signal(SIGUSR1, on_stop_request);
-    sigset_t unblock;
-    sigemptyset(&unblock);
-    sigaddset(&unblock, SIGUSR1);
-    ::pthread_sigmask(SIG_UNBLOCK, &unblock, nullptr);
-    const rlimit no_core{0, 0};
-    ::setrlimit(RLIMIT_CORE, &no_core);
-#ifndef CAUSTICA_SANITIZED
-    if (settings.memory_limit_bytes != 0) {
-        const std::size_t base = data_segment_bytes();
-        if (base != 0) {
-            const rlim_t cap = base + settings.memory_limit_bytes + settings.memory_limit_bytes / 4 + address_space_slack;
-            const rlimit data{cap, cap};
-            ::setrlimit(RLIMIT_DATA, &data);
-        }
+/// A pipe whose ends are numbered 10 and up (never 3-5, which the child's ends are moved to) and
+/// close on exec.
+struct Pipe {
+    int read = -1, write = -1;
+    Pipe() {
+        int ends[2];
+        if (::pipe2(ends, O_CLOEXEC) != 0)
+            throw std::runtime_error(std::string("cannot start the scene loader: ") + std::strerror(errno));
+        read = ::fcntl(ends[0], F_DUPFD_CLOEXEC, 10);
+        write = ::fcntl(ends[1], F_DUPFD_CLOEXEC, 10);
+        ::close(ends[0]);
+        ::close(ends[1]);
+        if (read < 0 || write < 0) throw std::runtime_error("cannot start the scene loader: no descriptors left");
     }
-#endif
-    std::string reply;
-    try {
-        try {
-            reply = "O" + encode_scene_script(run_script(path, settings, progress));
-        } catch (const ScriptCancelled&) {
-            reply = "C";
-        } catch (const InputError& e) {
-            reply = std::string("E") + e.what();
-        } catch (const std::bad_alloc&) {
-            reply = "Mout of memory";
-        } catch (const std::exception& e) {
-            reply = std::string("X") + e.what();
-        }
-    } catch (...) {
-        reply = "Mout of memory";
+    ~Pipe() {
+        close_read();
+        close_write();
     }
-    std::fflush(stdout);
-    std::fflush(stderr);
-    const std::uint64_t size = reply.size();
-    const bool sent = write_all(out, reinterpret_cast<const char*>(&size), sizeof size) &&
-                      write_all(out, reply.data(), reply.size());
-    ::_exit(sent ? 0 : 1);
+    Pipe(const Pipe&) = delete;
+    Pipe& operator=(const Pipe&) = delete;
+    void close_read() {
+        if (read >= 0) ::close(read);
+        read = -1;
+    }
+    void close_write() {
+        if (write >= 0) ::close(write);
+        write = -1;
+    }
+};
+
+/// "5", "0.5": the time limit as the user gave it.
+std::string seconds_text(double seconds) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", seconds);
+    return text;
+}
+
+/// The loader executable: $CAUSTICA_SCENE_LOADER, else beside this executable, else where the
+/// build put it.
+std::string loader_executable() {
+    if (const char* given = std::getenv("CAUSTICA_SCENE_LOADER"); given && *given) return given;
+    char self[4096];
+    const ssize_t length = ::readlink("/proc/self/exe", self, sizeof self - 1);
+    if (length > 0) {
+        std::string beside(self, static_cast<std::size_t>(length));
+        beside = beside.substr(0, beside.rfind('/') + 1) + "caustica-scene-loader";
+        if (::access(beside.c_str(), X_OK) == 0) return beside;
+    }
+    return CAUSTICA_SCENE_LOADER_PATH;
 }
 
 /// Owns the child: kills and reaps it unless it was reaped already.
@@ -183,27 +172,57 @@ std::string signal_text(int number) {
 SceneScript load_scene_script(const std::string& path, const LoadSettings& settings) {
     if (settings.cancel && settings.cancel->load()) throw ScriptCancelled();
     SharedPage page;
-    int pipe_ends[2];
-    if (::pipe2(pipe_ends, O_CLOEXEC) != 0)
-        throw std::runtime_error(std::string("cannot start the scene loader: ") + std::strerror(errno));
-    std::fflush(nullptr);  // nothing buffered here may be written twice by the child
-    const pid_t parent = ::getpid();
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        ::close(pipe_ends[0]);
-        run_child(pipe_ends[1], path, settings, page.get(), parent);
-    }
-    const int error = errno;
-    ::close(pipe_ends[1]);
-    if (pid < 0) {
-        ::close(pipe_ends[0]);
-        throw std::runtime_error(std::string("cannot start the scene loader: ") + std::strerror(error));
-    }
-    Child child(pid);
+    Pipe request, answer;
+    const int progress = ::fcntl(page.fd(), F_DUPFD_CLOEXEC, 10);
     struct Closer {
         int fd;
-        ~Closer() { ::close(fd); }
-    } reading{pipe_ends[0]};
+        ~Closer() {
+            if (fd >= 0) ::close(fd);
+        }
+    } progress_closer{progress};
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, request.read, request_fd);
+    posix_spawn_file_actions_adddup2(&actions, answer.write, reply_fd);
+    posix_spawn_file_actions_adddup2(&actions, progress, progress_fd);
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t none, defaults;
+    sigemptyset(&none);
+    sigemptyset(&defaults);
+    sigaddset(&defaults, SIGUSR1);
+    sigaddset(&defaults, SIGPIPE);
+    posix_spawnattr_setsigmask(&attributes, &none);
+    posix_spawnattr_setsigdefault(&attributes, &defaults);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    const std::string program = loader_executable();
+    char* const argv[] = {const_cast<char*>(program.c_str()), nullptr};
+    std::fflush(nullptr);  // nothing buffered here may be written out of order with the script's output
+    pid_t pid = -1;
+    const int spawned = ::posix_spawn(&pid, program.c_str(), &actions, &attributes, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
+    if (spawned != 0)
+        throw std::runtime_error("cannot start the scene loader " + program + ": " + std::strerror(spawned));
+    Child child(pid);
+    request.close_read();
+    answer.close_write();
+    {
+        // A child that died before reading is reported from its exit status below; its closed
+        // pipe must not raise SIGPIPE here, so the signal is blocked and any pending one taken.
+        sigset_t pipe_signal, previous;
+        sigemptyset(&pipe_signal);
+        sigaddset(&pipe_signal, SIGPIPE);
+        ::pthread_sigmask(SIG_BLOCK, &pipe_signal, &previous);
+        const std::string request_bytes = encode_load_request(path, settings);
+        if (!write_all(request.write, request_bytes.data(), request_bytes.size())) {
+            const timespec no_wait{0, 0};
+            ::sigtimedwait(&pipe_signal, nullptr, &no_wait);
+        }
+        ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+        request.close_write();
+    }
+    const int reading_fd = answer.read;
 
     const bool limited = settings.timeout_seconds > 0.0;
     const auto start = Clock::now();
@@ -213,10 +232,10 @@ SceneScript load_scene_script(const std::string& path, const LoadSettings& setti
     std::string reply;
     char buffer[1 << 16];
     for (;;) {
-        pollfd ready{reading.fd, POLLIN, 0};
+        pollfd ready{reading_fd, POLLIN, 0};
         const int polled = ::poll(&ready, 1, 50);
         if (polled > 0) {
-            const ssize_t got = ::read(reading.fd, buffer, sizeof buffer);
+            const ssize_t got = ::read(reading_fd, buffer, sizeof buffer);
             if (got == 0) break;
             if (got > 0) reply.append(buffer, static_cast<std::size_t>(got));
             else if (errno != EINTR && errno != EAGAIN) break;
@@ -231,11 +250,12 @@ SceneScript load_scene_script(const std::string& path, const LoadSettings& setti
         if (elapsed >= limit + stop_request_delay + grace_period) {
             child.kill();
             throw InputError(page.where(path) + ": script stopped after " +
-                             format_number(settings.timeout_seconds) +
+                             seconds_text(settings.timeout_seconds) +
                              " s (--script-timeout), inside a library call that had to be stopped from outside");
         }
     }
     const int status = child.wait();
+    if (settings.cancel && settings.cancel->load()) throw ScriptCancelled();
     std::uint64_t size = 0;
     if (reply.size() >= sizeof size) std::memcpy(&size, reply.data(), sizeof size);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || reply.size() < sizeof size + 1 ||
