@@ -1,10 +1,12 @@
 // Every course scene renders with --a4 at the size it asks, and objects appear where the camera
 // model says they must: each primitive's centre, projected with the scene's camera, shows a
 // surface (not the miss colour), and the image corners away from all objects show the miss colour.
+// The scenes are those of ../shared/cs488: without it these tests skip (course_scenes.h).
 #include "core/camera.h"
 #include "core/lua/scene_loader.h"
 #include "core/render_session.h"
 #include "core/scene_flatten.h"
+#include "tests/course_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -40,10 +42,11 @@ glm::vec3 primitive_centre(const SceneDesc& scene, const PlacedPrimitive& p) {
 }  // namespace
 
 TEST_P(CourseScene, RendersWithObjectsWhereTheCameraPutsThem) {
+    CAUSTICA_SKIP_WITHOUT_CS488();
     const CourseCase c = GetParam();
     LoadSettings settings;
     settings.base_options.a4 = true;
-    const SceneScript script = load_scene_script(std::string(CAUSTICA_CS488_DIR) + "/" + c.file, settings);
+    const SceneScript script = load_scene_script(caustica::testing::cs488_file(c.file), settings);
     ASSERT_EQ(script.renders.size(), 1u);
     RenderJob job = script.renders[0];
     EXPECT_EQ(job.width, c.width);
@@ -92,9 +95,10 @@ INSTANTIATE_TEST_SUITE_P(Cs488, CourseScene,
                          });
 
 TEST(CourseScenes, MissColourCornersInSimple) {
+    CAUSTICA_SKIP_WITHOUT_CS488();
     LoadSettings settings;
     settings.base_options.a4 = true;
-    RenderJob job = load_scene_script(std::string(CAUSTICA_CS488_DIR) + "/simple.lua", settings).renders.at(0);
+    RenderJob job = load_scene_script(caustica::testing::cs488_file("simple.lua"), settings).renders.at(0);
     job.options.silent = true;
     RenderSession session;
     session.set_job(job);
