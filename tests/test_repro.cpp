@@ -236,7 +236,7 @@ TEST(ReproSandbox, M1_OutputFolderRemovedWhileRenderingExits1) {
     bool removed = false;
     run.tick = [&](double t, pid_t, const std::string&) {
         std::error_code error;  // not yet if the write has begun in it: then the next tick
-        if (!removed && t > 0.3 * time_factor()) removed = fs::remove(s.root() / "out", error);
+        if (!removed && t > 0.3 * pace_factor()) removed = fs::remove(s.root() / "out", error);
     };
     const Tree before = snapshot(s.root());
     const Outcome o = run_child(run);
@@ -266,24 +266,24 @@ void expect_timeout_stops(const std::string& name, int line, double timeout) {
 }  // namespace
 
 TEST(ReproTime, S3_InfiniteLoopStopsAtTheTimeout) {
-    expect_timeout_stops("infinite_loop.lua", 1, 1.0 * time_factor());
+    expect_timeout_stops("infinite_loop.lua", 1, 1.0 * pace_factor());
 }
 
 TEST(ReproTime, S3_PatternBacktrackingStopsAtTheTimeout) {
-    expect_timeout_stops("pattern_backtrack.lua", 5, 1.0 * time_factor());
+    expect_timeout_stops("pattern_backtrack.lua", 5, 1.0 * pace_factor());
 }
 
 TEST(ReproTime, S3_GsubBacktrackingStopsAtTheTimeout) {
-    expect_timeout_stops("gsub_backtrack.lua", 2, 1.0 * time_factor());
+    expect_timeout_stops("gsub_backtrack.lua", 2, 1.0 * pace_factor());
 }
 
 TEST(ReproTime, S3_TableMoveStopsAtTheTimeout) {
-    expect_timeout_stops("table_move.lua", 3, 1.0 * time_factor());
+    expect_timeout_stops("table_move.lua", 3, 1.0 * pace_factor());
 }
 
 TEST(ReproTime, S3_LongTableSortStopsAtTheTimeout) {
     // Filling the 3e7 entries takes about 1 s; the limit falls inside table.sort (about 12 s).
-    expect_timeout_stops("sort_big.lua", 4, 3.0 * time_factor());
+    expect_timeout_stops("sort_big.lua", 4, 3.0 * pace_factor());
 }
 
 TEST(ReproTime, S3_OneCtrlCStopsARunawayPattern) {
@@ -294,7 +294,7 @@ TEST(ReproTime, S3_OneCtrlCStopsARunawayPattern) {
     run.args = {"render", "pattern_backtrack.lua", "-o", "x.png"};
     run.limits.wall_seconds = 6.0 * time_factor();
     double sent_at = 0.0;
-    run.tick = interrupt_at(1.0 * time_factor(), sent_at);
+    run.tick = interrupt_at(1.0 * pace_factor(), sent_at);
     const Outcome o = run_child(run);
     expect_interrupted(o, sent_at);
     EXPECT_FALSE(fs::exists(run.cwd / "x.png"));
@@ -308,7 +308,7 @@ TEST(ReproTime, S3_OneCtrlCStopsTableMove) {
     run.args = {"render", "table_move.lua", "-o", "x.png"};
     run.limits.wall_seconds = 6.0 * time_factor();
     double sent_at = 0.0;
-    run.tick = interrupt_at(1.0 * time_factor(), sent_at);
+    run.tick = interrupt_at(1.0 * pace_factor(), sent_at);
     const Outcome o = run_child(run);
     expect_interrupted(o, sent_at);
 }
@@ -361,7 +361,7 @@ TEST(ReproTime, S3_OneCtrlCStopsLoadingABigObj) {
     double sent_at = 0.0;
     bool still_loading = false;
     run.tick = [&](double t, pid_t child, const std::string& err) {
-        if (sent_at == 0.0 && t >= 0.25 * time_factor()) {
+        if (sent_at == 0.0 && t >= 0.25 * pace_factor()) {
             still_loading = err.find(rendering_marker) == std::string::npos;
             signal_group(child, SIGINT);
             sent_at = t;

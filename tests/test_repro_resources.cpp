@@ -233,15 +233,17 @@ TEST(ReproResources, R3_PreviewSurvivesTheSceneBecomingADeepChain) {
     const std::string deep = read_text(repro_source("exhaustion/deep_chain.lua"));
     Launch run;
     run.cwd = s.root();
-    run.args = {"view", "--headless", "live.lua", "--frames", "200", "--size", "320x240", "--snapshot", "snap.png"};
+    // Enough frames (about 60 a second) to outlast both rewrites, at the sanitizer's pace too.
+    const std::string frames = std::to_string(static_cast<int>(200 * pace_factor()));
+    run.args = {"view", "--headless", "live.lua", "--frames", frames, "--size", "320x240", "--snapshot", "snap.png"};
     run.env = {{"DEPTH", "30000"}};
     run.limits.wall_seconds = 30.0 * time_factor();
     int step = 0;
     run.tick = [&](double t, pid_t, const std::string&) {
-        if (step == 0 && t > 0.7 * time_factor()) {
+        if (step == 0 && t > 0.7 * pace_factor()) {
             s.write("live.lua", "local s = gr.sphere(\"s\")\ns:translate(1,2)\n");
             ++step;
-        } else if (step == 1 && t > 1.4 * time_factor()) {
+        } else if (step == 1 && t > 1.4 * pace_factor()) {
             s.write("live.lua", deep);
             ++step;
         }

@@ -145,6 +145,8 @@ bool sanitized_build() { return CAUSTICA_REPRO_SANITIZED != 0; }
 // slower (measured on the R1 and R3 scenes): the Release build asserts the real bounds.
 double time_factor() { return sanitized_build() ? 12.0 : 1.0; }
 
+double pace_factor() { return sanitized_build() ? 4.0 : 1.0; }
+
 std::size_t rss_bound(std::size_t bytes) { return sanitized_build() ? 4 * bytes + 1 * gib : bytes; }
 
 std::string Outcome::describe() const {

@@ -28,9 +28,14 @@ inline constexpr std::size_t gib = std::size_t(1) << 30;
 /// True when this build runs under AddressSanitizer (no RLIMIT_AS, slower, more memory).
 bool sanitized_build();
 
-/// Factor on time bounds: 1, or 4 under a sanitizer (AddressSanitizer and UndefinedBehaviorSanitizer
-/// together, without -O3, run an allocation-heavy scene 4 times slower).
+/// Factor on time bounds: 1, or 12 under a sanitizer (AddressSanitizer and UndefinedBehaviorSanitizer
+/// together run CSG- and allocation-heavy scenes 9-14 times slower).
 double time_factor();
+
+/// Factor on when a test acts (sends Ctrl-C, rewrites a scene) and on the script time limits it
+/// sets: 1, or 4 under a sanitizer. Smaller than time_factor(): acting too late would miss the
+/// stage under test, and larger limits would only make the suite slower.
+double pace_factor();
 
 /// A resident-size bound for a child that needs `bytes` in a plain build; under a sanitizer, four
 /// times that plus 1 GiB (shadow memory, redzones around small allocations, the quarantine of freed
