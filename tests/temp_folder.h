@@ -33,7 +33,7 @@ public:
         return file.string();
     }
     /// The full path of `name` in the folder.
-    std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
     const std::filesystem::path& path() const { return path_; }
 
 private:

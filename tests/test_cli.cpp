@@ -1,6 +1,7 @@
 // The command line as a user meets it: exit codes, messages naming file:line, no partial output,
 // Ctrl-C, precedence of the command line over gr.option, PNG metadata.
 #include "core/png_io.h"
+#include "core/sanitized.h"
 
 #include <gtest/gtest.h>
 
@@ -247,11 +248,7 @@ TEST_F(Cli, InterruptStopsWithinASecondExits130AndWritesNothing) {
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr double time_factor = 3.0;  // sanitized builds run slower
-#else
-constexpr double time_factor = 1.0;
-#endif
+constexpr double time_factor = caustica::sanitized_build ? 3.0 : 1.0;  // sanitized builds run slower
 
 /// Runs `caustica render -s big.lua -o out.png` on a 4000 x 4000 image (about 1.5 s to render,
 /// over a second to write), sends `signals` as soon as the PNG's temporary appears, and returns
@@ -324,9 +321,7 @@ TEST_F(Cli, AKilledWritesTemporaryIsRemovedByTheNextRun) {
 }
 
 TEST_F(Cli, RunningOutOfMemoryIsAClearSceneErrorNotABareBadAlloc) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    GTEST_SKIP() << "an address-space limit cannot hold a sanitizer's shadow memory";
-#endif
+    if (caustica::sanitized_build) GTEST_SKIP() << "an address-space limit cannot hold a sanitizer's shadow memory";
     // 16384 x 16384 needs 3 GiB of float pixels; the process may have 1.5 GB of address space.
     std::string scene = small_scene;
     scene.replace(scene.find("40, 30"), 6, "16384, 16384");

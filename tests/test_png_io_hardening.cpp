@@ -3,6 +3,7 @@
 // address-space limit, with its peak memory measured); a cancelled or signalled write leaves no
 // temporary; temporaries of killed runs are removed by the next write, and only those.
 #include "core/png_io.h"
+#include "core/sanitized.h"
 
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -30,17 +31,7 @@ using caustica::PngReadLimits;
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool sanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-constexpr bool sanitized = true;
-#else
-constexpr bool sanitized = false;
-#endif
-#else
-constexpr bool sanitized = false;
-#endif
+constexpr bool sanitized = caustica::sanitized_build;
 
 /// Sanitized builds run slower and carry shadow memory: bounds widen for them, never otherwise.
 constexpr double time_factor = sanitized ? 3.0 : 1.0;

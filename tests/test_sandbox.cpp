@@ -81,11 +81,11 @@ TEST(Sandbox, SymlinksOutOfTheFolderAreRefusedWhateverThePath) {
     TempFolder outside;
     outside.write("secret.txt", "SECRET-CONTENT\n");
     TempFolder dir;
-    fs::create_symlink(outside / "secret.txt", dir / "link.txt");
-    fs::create_directories(dir / std::string(250, 'a'));
-    fs::create_symlink("loop", dir / "loop");  // a looping link before '..' defeated the old check
+    fs::create_symlink(outside.file("secret.txt"), dir.file("link.txt"));
+    fs::create_directories(dir.file(std::string(250, 'a')));
+    fs::create_symlink("loop", dir.file("loop"));  // a looping link before '..' defeated the old check
     for (const std::string& name : {std::string("link.txt"), std::string(250, 'a') + "/../link.txt",
-                                    std::string("loop/../link.txt"), outside / "secret.txt"}) {
+                                    std::string("loop/../link.txt"), outside.file("secret.txt")}) {
         const std::string scene = dir.write("s.lua", "local f, err = io.open('" + name +
                                                          "')\nif f then error(f:read('a')) end\nerror(err)\n");
         const std::string error = load_error(scene);
@@ -100,9 +100,9 @@ TEST(Sandbox, RequireFollowsTheSameRule) {
     TempFolder outside;
     outside.write("evil.lua", "error('EVIL RAN')\n");
     TempFolder dir;
-    fs::create_symlink(outside / "evil.lua", dir / "evil.lua");
-    fs::create_symlink(outside.path(), dir / "include");
-    fs::create_symlink("/etc/passwd", dir / "passwd.lua");
+    fs::create_symlink(outside.file("evil.lua"), dir.file("evil.lua"));
+    fs::create_symlink(outside.path(), dir.file("include"));
+    fs::create_symlink("/etc/passwd", dir.file("passwd.lua"));
     for (const char* module : {"evil", "passwd"}) {
         const std::string scene = dir.write("s.lua", std::string("require('") + module + "')\n");
         const std::string error = load_error(scene);
@@ -115,8 +115,8 @@ TEST(Sandbox, RequireFollowsTheSameRule) {
 
 TEST(Sandbox, OnlyRegularFilesAreRead) {
     TempFolder dir;
-    ASSERT_EQ(::mkfifo((dir / "fifo.obj").c_str(), 0600), 0);
-    fs::create_symlink("/dev/zero", dir / "zero.obj");
+    ASSERT_EQ(::mkfifo((dir.file("fifo.obj")).c_str(), 0600), 0);
+    fs::create_symlink("/dev/zero", dir.file("zero.obj"));
     for (const char* name : {"fifo.obj", "zero.obj"}) {
         const std::string scene = dir.write("s.lua", std::string("gr.mesh('m', '") + name + "')\n");
         const auto start = Clock::now();
@@ -134,9 +134,9 @@ TEST(Sandbox, AllowReadWidensTheFolderForTheUserOnly) {
     Image image(2, 1);
     image.at(0, 0) = glm::vec3(1, 0, 0);
     image.at(1, 0) = glm::vec3(0, 1, 0);
-    write_png_atomic(shared / "tex.png", image, PixelEncoding::clamped_linear);
+    write_png_atomic(shared.file("tex.png"), image, PixelEncoding::clamped_linear);
     TempFolder dir;
-    const std::string scene = dir.write("s.lua", "local t = gr.texture('" + (shared / "tex.png") +
+    const std::string scene = dir.write("s.lua", "local t = gr.texture('" + (shared.file("tex.png")) +
                                                      "')\nlocal root = gr.node('root')\n" + scene_tail);
     EXPECT_NE(load_error(scene).find("s.lua:1: gr.texture: '"), std::string::npos);
     LoadSettings settings;
@@ -158,8 +158,8 @@ TEST(Sandbox, AllowReadWidensTheFolderForTheUserOnly) {
 TEST(Sandbox, TheSameFileUnderTwoNamesIsDecodedOnce) {
     TempFolder dir;
     Image image(4, 4);
-    write_png_atomic(dir / "a.png", image, PixelEncoding::clamped_linear);
-    fs::create_symlink("a.png", dir / "b.png");
+    write_png_atomic(dir.file("a.png"), image, PixelEncoding::clamped_linear);
+    fs::create_symlink("a.png", dir.file("b.png"));
     const std::string scene = dir.write("s.lua", "local a = gr.texture('a.png')\nlocal b = gr.texture('b.png')\n"
                                                  "local root = gr.node('root')\n" + std::string(scene_tail));
     const SceneScript script = load_scene_script(scene);
@@ -251,7 +251,7 @@ TEST(Sandbox, OneBudgetForEverythingTheScriptMakesTheRendererHold) {
 TEST(SceneWire, RoundTripKeepsEverythingAndSharing) {
     TempFolder dir;
     Image image(3, 2);
-    write_png_atomic(dir / "t.png", image, PixelEncoding::clamped_linear);
+    write_png_atomic(dir.file("t.png"), image, PixelEncoding::clamped_linear);
     dir.write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     const std::string scene = dir.write("s.lua",
         "local m = gr.material({0.1,0.2,0.3},{0.4,0.5,0.6},25)\nm:set_ri(1.5)\nm:set_texture(gr.texture('t.png'))\n"

@@ -181,7 +181,7 @@ TEST(SceneLoader, OptionsAccumulateFromTheBase) {
 
 TEST(SceneLoader, MaterialsTexturesLightsAndCsg) {
     TempFolder dir;
-    write_png_atomic(dir / "wood.png", Image(4, 2), PixelEncoding::clamped_linear);
+    write_png_atomic(dir.file("wood.png"), Image(4, 2), PixelEncoding::clamped_linear);
     dir.write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n");
     const std::string path = dir.write("scene.lua", R"(glass = gr.material({0,0,0}, {1,1,1}, 100)
 glass:set_ri(1.5)

@@ -2,6 +2,7 @@
 
 #include "core/lua/lua_context.h"
 #include "core/lua/scene_wire.h"
+#include "core/sanitized.h"
 
 #include <signal.h>
 #include <sys/mman.h>
@@ -16,14 +17,6 @@
 #include <fstream>
 #include <new>
 #include <type_traits>
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define CAUSTICA_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define CAUSTICA_SANITIZED 1
-#endif
-#endif
 
 namespace caustica::scene_lua {
 namespace {
@@ -88,17 +81,6 @@ std::size_t data_segment_bytes() {
 }
 #endif
 
-bool write_all(int fd, const char* data, std::size_t size) {
-    while (size) {
-        const ssize_t done = ::write(fd, data, size);
-        if (done < 0 && errno == EINTR) continue;
-        if (done <= 0) return false;
-        data += done;
-        size -= static_cast<std::size_t>(done);
-    }
-    return true;
-}
-
 std::string read_all(int fd) {
     std::string bytes;
     char buffer[1 << 14];
@@ -154,6 +136,17 @@ std::string run(const std::string& request) {
 }
 
 }  // namespace
+
+bool write_all(int fd, const char* data, std::size_t size) {
+    while (size) {
+        const ssize_t done = ::write(fd, data, size);
+        if (done < 0 && errno == EINTR) continue;
+        if (done <= 0) return false;
+        data += done;
+        size -= static_cast<std::size_t>(done);
+    }
+    return true;
+}
 
 std::string encode_load_request(const std::string& path, const LoadSettings& settings) {
     std::string out;

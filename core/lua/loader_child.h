@@ -25,6 +25,9 @@ inline constexpr int request_fd = 3;
 inline constexpr int reply_fd = 4;
 inline constexpr int progress_fd = 5;
 
+/// Writes all `size` bytes (retrying short writes and EINTR); false on an error.
+bool write_all(int fd, const char* data, std::size_t size);
+
 /// The request as bytes.
 std::string encode_load_request(const std::string& path, const LoadSettings& settings);
 

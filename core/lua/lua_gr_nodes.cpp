@@ -105,7 +105,7 @@ CallResult gr_mesh(lua_State* L, LoaderContext& ctx) {
         {
             const std::string text = read_scene_file(ctx, file, "the mesh file");
             data = parse_obj_mesh(text, as_written, file.path);
-            ctx.memory_used -= text.size();  // the text goes; the mesh is charged instead
+            release_memory(ctx, text.size());  // the text goes; the mesh is charged instead
         }
         charge_memory(ctx, mesh_bytes(*data), "the mesh");
         ctx.scene.meshes.push_back(std::move(data));

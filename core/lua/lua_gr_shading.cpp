@@ -113,7 +113,7 @@ std::shared_ptr<const Png8> decode_image(LoaderContext& ctx, const std::string& 
     const std::uint64_t texels = std::uint64_t(header.width) * std::uint64_t(header.height);
     charge_memory(ctx, static_cast<std::size_t>(header.decoded_bytes() + texels * texel_bytes), "the decoded image");
     auto image = std::make_shared<const Png8>(read_png_memory(encoded, file.shown, limits));
-    ctx.memory_used -= bytes.size();  // the file's bytes go; the pixels stay
+    release_memory(ctx, bytes.size());  // the file's bytes go; the pixels stay
     ctx.image_cache.emplace(identity, image);
     return image;
 }

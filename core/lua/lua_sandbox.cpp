@@ -484,7 +484,7 @@ int require_function(lua_State* L) {
     lua_pushstring(L, ctx.resolved_path.c_str());  // 3
     lua_pushfstring(L, "@%s", ctx.resolved_path.c_str());
     const int loaded = luaL_loadbufferx(L, ctx.result_text.data(), ctx.result_text.size(), lua_tostring(L, -1), "t");
-    ctx.memory_used -= ctx.result_text.size();  // charged by read_scene_file; the text goes now
+    release_memory(ctx, ctx.result_text.size());  // charged by read_scene_file; the text goes now
     ctx.result_text.clear();
     ctx.result_text.shrink_to_fit();
     if (loaded != LUA_OK) return lua_error(L);

@@ -65,6 +65,11 @@ std::string read_main_script(const std::string& path, std::size_t max_bytes);
 /// used up (the guard adds "file:line: call:").
 void charge_memory(LoaderContext& ctx, std::size_t bytes, const char* what);
 
+/// Gives back `bytes` charged earlier for something now freed (a file's text once parsed).
+inline void release_memory(LoaderContext& ctx, std::size_t bytes) {
+    ctx.memory_used -= std::min(ctx.memory_used, bytes);
+}
+
 /// Charges appending one element to `items`, a vector of ctx.scene: the buffer it grows into when
 /// it is full (libstdc++ doubles it) and `extra` heap bytes the element owns; the snapshot
 /// estimate grows by the element alone. Call it before the push_back.

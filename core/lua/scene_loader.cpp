@@ -301,7 +301,7 @@ SceneScript scene_lua::run_script(const std::string& path, const LoadSettings& s
     lua_pushcfunction(L, message_handler);
     lua_pushcfunction(L, load_main_chunk);
     int status = lua_pcall(L, 0, 1, 0);
-    ctx.memory_used -= std::min(ctx.memory_used, ctx.result_text.size());  // the text goes; the chunk stays
+    release_memory(ctx, ctx.result_text.size());  // the text goes; the chunk stays
     std::string().swap(ctx.result_text);
     if (status == LUA_OK) status = lua_pcall(L, 0, 0, 1);
     if (status != LUA_OK) {

@@ -71,17 +71,6 @@ private:
     SharedProgress* progress_ = nullptr;
 };
 
-bool write_all(int fd, const char* data, std::size_t size) {
-    while (size) {
-        const ssize_t done = ::write(fd, data, size);
-        if (done < 0 && errno == EINTR) continue;
-        if (done <= 0) return false;
-        data += done;
-        size -= static_cast<std::size_t>(done);
-    }
-    return true;
-}
-
 /// A pipe whose ends are numbered 10 and up (never 3-5, which the child's ends are moved to) and
 /// close on exec.
 struct Pipe {

@@ -2,6 +2,7 @@
 #include "repro_runner.h"
 
 #include "core/png_io.h"
+#include "core/sanitized.h"
 
 #include <gtest/gtest.h>
 
@@ -23,17 +24,6 @@
 #include <unistd.h>
 
 extern char** environ;
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define CAUSTICA_REPRO_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define CAUSTICA_REPRO_SANITIZED 1
-#endif
-#endif
-#ifndef CAUSTICA_REPRO_SANITIZED
-#define CAUSTICA_REPRO_SANITIZED 0
-#endif
 
 namespace caustica::repro {
 namespace {
@@ -123,7 +113,7 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
     struct sigaction default_action {};
     default_action.sa_handler = SIG_DFL;
     for (int s : {SIGINT, SIGTERM, SIGPIPE, SIGXCPU}) ::sigaction(s, &default_action, nullptr);
-    if (!CAUSTICA_REPRO_SANITIZED && run.limits.address_space > 0)
+    if (!caustica::sanitized_build && run.limits.address_space > 0)
         set_limit(RLIMIT_AS, run.limits.address_space, run.limits.address_space);
     const auto cpu = static_cast<rlim_t>(run.limits.cpu_seconds + 0.999);
     set_limit(RLIMIT_CPU, cpu, cpu + 2);
@@ -139,7 +129,7 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
 
 }  // namespace
 
-bool sanitized_build() { return CAUSTICA_REPRO_SANITIZED != 0; }
+bool sanitized_build() { return caustica::sanitized_build; }
 
 // AddressSanitizer + UndefinedBehaviorSanitizer runs CSG- and allocation-heavy paths 9-14 times
 // slower (measured on the R1 and R3 scenes): the Release build asserts the real bounds.

@@ -1,6 +1,7 @@
 // Helpers of the UI tests: temporary folders, scene files, and running the model until a condition.
 #pragma once
 
+#include "tests/temp_folder.h"
 #include "ui/view_model.h"
 
 #include <chrono>
@@ -15,31 +16,7 @@ namespace caustica::ui::testing {
 
 namespace fs = std::filesystem;
 
-/// A fresh folder under the system temp dir, removed at the end of the test.
-class TempFolder {
-public:
-    TempFolder() {
-        static int counter = 0;
-        path_ = fs::temp_directory_path() / ("caustica_ui_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempFolder() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    /// Writes `text` to `name` and returns the full path.
-    std::string write(const std::string& name, const std::string& text) const {
-        const fs::path file = path_ / name;
-        std::ofstream(file, std::ios::binary) << text;
-        return file.string();
-    }
-    /// The full path of `name` in the folder.
-    std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-    fs::path path_;
-};
+using caustica::testing::TempFolder;
 
 /// The preview test scene (tests/ui/scenes/caustic_box.lua) with `extra` Lua appended before its
 /// render call and `photons` caustic photons.
