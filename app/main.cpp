@@ -1,7 +1,7 @@
 // caustica: the command-line entry point. Subcommands as in yocto's apps: render, view.
 #include "app/render_command.h"
 #include "app/view_command.h"
-#include "core/source_location.h"
+#include "core/scene/source_location.h"
 
 #include <cstdio>
 #include <exception>

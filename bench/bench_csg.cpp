@@ -2,12 +2,12 @@
 // (rows of holes are groups, i.e. nested implicit unions, inside a difference), rendered at
 // 256 x 256 on one thread with the boxes of CSG subtrees tested (1) and not (0).
 //   build/bench_csg --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-#include "core/camera.h"
-#include "core/integrator.h"
-#include "core/render_scene.h"
-#include "core/render_session.h"
-#include "core/scene_flatten.h"
-#include "core/tile_renderer.h"
+#include "core/scene/camera.h"
+#include "core/integrators/integrator.h"
+#include "core/geometry/render_scene.h"
+#include "core/render/render_session.h"
+#include "core/scene/scene_flatten.h"
+#include "core/render/tile_renderer.h"
 
 #include <benchmark/benchmark.h>
 #include <xmmintrin.h>

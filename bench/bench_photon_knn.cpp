@@ -4,7 +4,7 @@
 // random order. nanoflann gets its best configuration: leaf size 10 and a radius-bounded max-heap
 // result set (the same bound and heap our tree uses).
 //   build/bench_photon_knn --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-#include "core/photon_kdtree.h"
+#include "core/photons/photon_kdtree.h"
 
 #include <benchmark/benchmark.h>
 #include <nanoflann.hpp>

@@ -3,9 +3,9 @@
 // space: photons that miss escape at once) and an enclosed one (the light inside a glass shell:
 // the map cannot pay), after the seed's tables (3.2x and 0.7x).
 //   build/bench_photons --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-#include "core/caustic_stage.h"
-#include "core/photon_tracer.h"
-#include "core/scene_flatten.h"
+#include "core/photons/caustic_stage.h"
+#include "core/photons/photon_tracer.h"
+#include "core/scene/scene_flatten.h"
 #include "tests/test_support.h"
 
 #include <benchmark/benchmark.h>

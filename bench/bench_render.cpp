@@ -2,13 +2,13 @@
 // and whole renders of macho-cows.lua at 512 x 512 on 1 and 2 threads (scenes of ../shared/cs488:
 // without it, nothing runs and the program says so).
 //   build/bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-#include "core/camera.h"
-#include "core/integrator.h"
+#include "core/scene/camera.h"
+#include "core/integrators/integrator.h"
 #include "core/lua/scene_loader.h"
-#include "core/render_scene.h"
-#include "core/render_session.h"
-#include "core/scene_flatten.h"
-#include "core/tile_renderer.h"
+#include "core/geometry/render_scene.h"
+#include "core/render/render_session.h"
+#include "core/scene/scene_flatten.h"
+#include "core/render/tile_renderer.h"
 
 #include <benchmark/benchmark.h>
 #include <xmmintrin.h>

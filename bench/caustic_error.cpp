@@ -2,7 +2,7 @@
 // disc average against Jensen's cone filter, on the virtual-light scene whose answer is known
 // (the ceiling lit through a mirror equals a light of intensity ks I at the mirrored position).
 // Prints a Markdown table.   build/caustic_error [--quick]
-#include "core/render_session.h"
+#include "core/render/render_session.h"
 #include "tests/test_support.h"
 
 #include <chrono>

@@ -10,8 +10,8 @@
 #include "bench/trade_plot.h"
 #include "bench/trade_reference.h"
 #include "core/lua/scene_loader.h"
-#include "core/render_session.h"
-#include "core/source_location.h"
+#include "core/render/render_session.h"
+#include "core/scene/source_location.h"
 #include "tests/test_support.h"
 
 #include <algorithm>

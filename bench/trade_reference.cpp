@@ -1,7 +1,7 @@
 #include "bench/trade_reference.h"
 
-#include "core/random.h"
-#include "core/render_session.h"
+#include "core/render/random.h"
+#include "core/render/render_session.h"
 
 #include <bit>
 #include <cmath>

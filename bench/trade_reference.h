@@ -2,9 +2,9 @@
 // says what made them, so a reference that no longer matches its scene is detected.
 #pragma once
 
-#include "core/scene_desc.h"
+#include "core/scene/scene_desc.h"
 
-#include "core/image.h"
+#include "core/render/image.h"
 
 #include <cstdint>
 #include <string>

@@ -1,9 +1,9 @@
 // Fuzz target: OBJ text -> MeshData or InputError (gr.mesh's reader, parse_obj_mesh of
-// core/mesh_obj.h, in memory).
+// core/geometry/mesh_obj.h, in memory).
 #include "fuzz/fuzz_targets.h"
 
-#include "core/mesh_obj.h"
-#include "core/source_location.h"
+#include "core/geometry/mesh_obj.h"
+#include "core/scene/source_location.h"
 
 #include <cmath>
 #include <string_view>

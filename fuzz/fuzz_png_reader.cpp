@@ -1,8 +1,8 @@
-// Fuzz target: PNG bytes -> Png8 or std::runtime_error (textures, core/png_io.h), with the
+// Fuzz target: PNG bytes -> Png8 or std::runtime_error (textures, core/io/png_io.h), with the
 // default PngReadLimits: the header is checked before libpng allocates for the pixels.
 #include "fuzz/fuzz_targets.h"
 
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 
 #include <stdexcept>
 #include <string>

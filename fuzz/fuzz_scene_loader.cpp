@@ -6,9 +6,9 @@
 #include "fuzz/fuzz_targets.h"
 
 #include "core/lua/scene_loader.h"
-#include "core/png_io.h"
-#include "core/render_session.h"
-#include "core/source_location.h"
+#include "core/io/png_io.h"
+#include "core/render/render_session.h"
+#include "core/scene/source_location.h"
 
 #include <algorithm>
 #include <chrono>

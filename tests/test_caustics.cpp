@@ -1,12 +1,12 @@
 // Caustics: the k-D tree against brute force, the energy rule and radiance estimate against
 // closed forms, and the virtual-light test of the whole photon pipeline.
-#include "core/camera.h"
-#include "core/caustic_stage.h"
-#include "core/photon_kdtree.h"
-#include "core/photon_map.h"
-#include "core/photon_tracer.h"
-#include "core/scene_flatten.h"
-#include "core/source_location.h"
+#include "core/scene/camera.h"
+#include "core/photons/caustic_stage.h"
+#include "core/photons/photon_kdtree.h"
+#include "core/photons/photon_map.h"
+#include "core/photons/photon_tracer.h"
+#include "core/scene/scene_flatten.h"
+#include "core/scene/source_location.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // The command line as a user meets it: exit codes, messages naming file:line, no partial output,
 // Ctrl-C, precedence of the command line over gr.option, PNG metadata.
-#include "core/png_io.h"
-#include "core/sanitized.h"
+#include "core/io/png_io.h"
+#include "core/util/sanitized.h"
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 // model says they must: each primitive's centre, projected with the scene's camera, shows a
 // surface (not the miss colour), and the image corners away from all objects show the miss colour.
 // The scenes are those of ../shared/cs488: without it these tests skip (course_scenes.h).
-#include "core/camera.h"
+#include "core/scene/camera.h"
 #include "core/lua/scene_loader.h"
-#include "core/render_session.h"
-#include "core/scene_flatten.h"
+#include "core/render/render_session.h"
+#include "core/scene/scene_flatten.h"
 #include "tests/course_scenes.h"
 
 #include <gtest/gtest.h>

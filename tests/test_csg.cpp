@@ -1,12 +1,12 @@
 // Constructive solid geometry: the interval algebra on hand-made lists, CSG objects traced
 // through the Embree scene against analytic answers, and render invariances.
-#include "core/camera.h"
-#include "core/csg_intervals.h"
-#include "core/integrator.h"
+#include "core/scene/camera.h"
+#include "core/geometry/csg_intervals.h"
+#include "core/integrators/integrator.h"
 #include "core/lua/scene_loader.h"
-#include "core/render_scene.h"
-#include "core/scene_flatten.h"
-#include "core/tile_renderer.h"
+#include "core/geometry/render_scene.h"
+#include "core/scene/scene_flatten.h"
+#include "core/render/tile_renderer.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Numerical stability at the extremes: every case gives a correct image or a clear error, never a
 // NaN pixel, a hang or a crash. Each test backs one row of docs/ACCURACY.md.
-#include "core/caustic_stage.h"
-#include "core/source_location.h"
+#include "core/photons/caustic_stage.h"
+#include "core/scene/source_location.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

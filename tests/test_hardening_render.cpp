@@ -1,14 +1,14 @@
 // The renderer under hostile but finite input (issue 9): deep nesting, far and huge values,
 // option values that would allocate without bound, malformed OBJ files, hashing and the denormal
 // mode. Each test fails (or crashes) without the change it backs.
-#include "core/denormals.h"
-#include "core/mesh_obj.h"
-#include "core/options.h"
-#include "core/render_scene.h"
-#include "core/render_session.h"
-#include "core/scene_flatten.h"
-#include "core/scene_validate.h"
-#include "core/source_location.h"
+#include "core/util/denormals.h"
+#include "core/geometry/mesh_obj.h"
+#include "core/scene/options.h"
+#include "core/geometry/render_scene.h"
+#include "core/render/render_session.h"
+#include "core/scene/scene_flatten.h"
+#include "core/scene/scene_validate.h"
+#include "core/scene/source_location.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // Fresnel, Snell and Beer-Lambert against closed forms, and the invariances they imply.
-#include "core/camera.h"
-#include "core/integrator.h"
-#include "core/optics.h"
-#include "core/render_scene.h"
-#include "core/scene_flatten.h"
+#include "core/scene/camera.h"
+#include "core/integrators/integrator.h"
+#include "core/shading/optics.h"
+#include "core/geometry/render_scene.h"
+#include "core/scene/scene_flatten.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The option table: parsing, validation, suggestions, precedence.
-#include "core/options.h"
-#include "core/source_location.h"
+#include "core/scene/options.h"
+#include "core/scene/source_location.h"
 
 #include <gtest/gtest.h>
 

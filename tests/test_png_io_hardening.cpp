@@ -2,8 +2,8 @@
 // a decompression bomb is refused before libpng allocates (checked in a child process under an
 // address-space limit, with its peak memory measured); a cancelled or signalled write leaves no
 // temporary; temporaries of killed runs are removed by the next write, and only those.
-#include "core/png_io.h"
-#include "core/sanitized.h"
+#include "core/io/png_io.h"
+#include "core/util/sanitized.h"
 
 #include <gtest/gtest.h>
 #include <zlib.h>

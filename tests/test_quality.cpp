@@ -2,8 +2,8 @@
 // tokens at its place in the order (earlier options are replaced, later ones win), and it works
 // from a scene's gr.option as from the command line.
 #include "core/lua/scene_loader.h"
-#include "core/options.h"
-#include "core/source_location.h"
+#include "core/scene/options.h"
+#include "core/scene/source_location.h"
 
 #include <gtest/gtest.h>
 

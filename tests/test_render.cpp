@@ -1,8 +1,8 @@
 // End-to-end renders of hand-built scenes with answers known in closed form.
-#include "core/camera.h"
-#include "core/render_session.h"
-#include "core/scene_flatten.h"
-#include "core/source_location.h"
+#include "core/scene/camera.h"
+#include "core/render/render_session.h"
+#include "core/scene/scene_flatten.h"
+#include "core/scene/source_location.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

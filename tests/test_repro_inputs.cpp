@@ -4,7 +4,7 @@
 // call:" naming the file, within bounded time and resident size.
 #include "repro/repro_runner.h"
 
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 
 #include <gtest/gtest.h>
 

@@ -7,9 +7,9 @@
 #include "repro/repro_runner.h"
 
 #include "core/lua/scene_loader.h"
-#include "core/options.h"
-#include "core/png_io.h"
-#include "core/render_session.h"
+#include "core/scene/options.h"
+#include "core/io/png_io.h"
+#include "core/render/render_session.h"
 
 #include <gtest/gtest.h>
 

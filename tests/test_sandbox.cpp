@@ -4,7 +4,7 @@
 // for everything the script makes the renderer hold, and the loader's process boundary.
 #include "core/lua/scene_loader.h"
 #include "core/lua/scene_wire.h"
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 #include "tests/temp_folder.h"
 
 #include <gtest/gtest.h>

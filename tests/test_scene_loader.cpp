@@ -1,8 +1,8 @@
 // Tests of the Lua scene loader (core/lua) and the OBJ loader: the course scenes, snapshots,
 // options, the 5.1 module system, the sandbox, every class of bad input and the limits.
 #include "core/lua/scene_loader.h"
-#include "core/mesh_obj.h"
-#include "core/png_io.h"
+#include "core/geometry/mesh_obj.h"
+#include "core/io/png_io.h"
 #include "tests/course_scenes.h"
 #include "tests/temp_folder.h"
 

@@ -1,5 +1,5 @@
 // Analytic primitives against closed-form answers, including rays from inside and grazing rays.
-#include "core/shapes.h"
+#include "core/geometry/shapes.h"
 
 #include <gtest/gtest.h>
 

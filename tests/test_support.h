@@ -1,9 +1,9 @@
 // Helpers for tests that build scenes in C++ rather than Lua.
 #pragma once
 
-#include "core/camera.h"
-#include "core/render_session.h"
-#include "core/scene_desc.h"
+#include "core/scene/camera.h"
+#include "core/render/render_session.h"
+#include "core/scene/scene_desc.h"
 
 #include <cmath>
 #include <memory>

@@ -1,13 +1,13 @@
 // Textures and bump maps: filtering, caching, procedurals, the cube unwrap, remaps, Blinn bump
 // mapping, and an end-to-end textured render. Expected values follow docs/TEXTURES.md.
-#include "core/camera.h"
+#include "core/scene/camera.h"
 #include "core/lua/scene_loader.h"
-#include "core/png_io.h"
-#include "core/shapes.h"
-#include "core/source_location.h"
-#include "core/texture.h"
-#include "core/texture_image.h"
-#include "core/texture_procedural.h"
+#include "core/io/png_io.h"
+#include "core/geometry/shapes.h"
+#include "core/scene/source_location.h"
+#include "core/shading/texture.h"
+#include "core/shading/texture_image.h"
+#include "core/shading/texture_procedural.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>

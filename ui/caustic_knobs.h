@@ -2,7 +2,7 @@
 // that a reloaded script keeps the person's values and takes the script's for the others.
 #pragma once
 
-#include "core/options.h"
+#include "core/scene/options.h"
 
 #include <cstdint>
 

@@ -2,7 +2,7 @@
 // the view axis (drag to orbit, scroll to zoom, pan, set the target by picking).
 #pragma once
 
-#include "core/scene_desc.h"
+#include "core/scene/scene_desc.h"
 
 #include <glm/glm.hpp>
 

@@ -3,8 +3,8 @@
 // camera (per camera change), and the triangles that draw them (no GL here).
 #pragma once
 
-#include "core/camera.h"
-#include "core/render_session.h"
+#include "core/scene/camera.h"
+#include "core/render/render_session.h"
 
 #include <glm/glm.hpp>
 

@@ -4,7 +4,7 @@
 // when a render ends. Everything here runs on the UI thread; nothing here knows about GL.
 #pragma once
 
-#include "core/render_session.h"
+#include "core/render/render_session.h"
 
 #include <cstdint>
 #include <deque>

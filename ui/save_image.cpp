@@ -1,6 +1,6 @@
 #include "ui/save_image.h"
 
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 
 #include <cstdio>
 #include <filesystem>

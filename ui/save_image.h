@@ -2,9 +2,9 @@
 // atomically, with the scene, camera, options and render state in its text chunks.
 #pragma once
 
-#include "core/image.h"
-#include "core/render_session.h"
-#include "core/scene_desc.h"
+#include "core/render/image.h"
+#include "core/render/render_session.h"
+#include "core/scene/scene_desc.h"
 
 #include <string>
 #include <utility>

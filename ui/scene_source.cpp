@@ -1,6 +1,6 @@
 #include "ui/scene_source.h"
 
-#include "core/source_location.h"
+#include "core/scene/source_location.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,7 +1,7 @@
 #include "ui/view_arguments.h"
 
-#include "core/options.h"
-#include "core/source_location.h"
+#include "core/scene/options.h"
+#include "core/scene/source_location.h"
 
 #include <charconv>
 #include <cstdio>

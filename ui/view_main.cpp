@@ -1,7 +1,7 @@
 #include "ui/view_main.h"
 
-#include "core/png_io.h"
-#include "core/source_location.h"
+#include "core/io/png_io.h"
+#include "core/scene/source_location.h"
 
 #include <chrono>
 #include <cstdio>

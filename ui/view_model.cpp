@@ -1,6 +1,6 @@
 #include "ui/view_model.h"
 
-#include "core/camera.h"
+#include "core/scene/camera.h"
 
 #include <algorithm>
 #include <cmath>

@@ -16,7 +16,7 @@
 //   clipped_ref  fraction of region pixels where the reference has a channel at 255 (the error
 //                there is underestimated: clamping hides it)
 // Exit status: 0 on success, 2 on a usage error, unreadable files or mismatched sizes.
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 
 #include <cmath>
 #include <cstdio>

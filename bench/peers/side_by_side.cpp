@@ -5,8 +5,8 @@
 //   side_by_side OUT.png IN.png... [--crop X0 Y0 X1 Y1] [--zoom Z] [--gap N] [--vertical]
 //
 // Inputs of different sizes are top/left aligned on a white background. Exit status 2 on errors.
-#include "core/image.h"
-#include "core/png_io.h"
+#include "core/render/image.h"
+#include "core/io/png_io.h"
 
 #include <algorithm>
 #include <cstdio>

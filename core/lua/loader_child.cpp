@@ -2,7 +2,7 @@
 
 #include "core/lua/lua_context.h"
 #include "core/lua/scene_wire.h"
-#include "core/sanitized.h"
+#include "core/util/sanitized.h"
 
 #include <signal.h>
 #include <sys/mman.h>

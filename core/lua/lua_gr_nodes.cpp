@@ -2,7 +2,7 @@
 // Transforms are recorded in call order; the renderer composes them under the convention in force.
 #include "core/lua/lua_context.h"
 #include "core/lua/scene_files.h"
-#include "core/mesh_obj.h"
+#include "core/geometry/mesh_obj.h"
 
 #include <cctype>
 

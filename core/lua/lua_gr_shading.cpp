@@ -1,7 +1,7 @@
 // The appearance half of the gr API: materials, textures, bump maps and lights.
 #include "core/lua/lua_context.h"
 #include "core/lua/scene_files.h"
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 
 #include <algorithm>
 #include <array>

@@ -1,7 +1,7 @@
 // Runs a scene script (the gr.* language of SCENE_API.md) in a sandbox and returns its renders.
 #pragma once
 
-#include "core/scene_desc.h"
+#include "core/scene/scene_desc.h"
 
 #include <atomic>
 #include <cstddef>

@@ -1,6 +1,6 @@
 #include "core/lua/scene_wire.h"
 
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 
 #include <cstdint>
 #include <cstring>

@@ -4,7 +4,7 @@
 // a damaged message is an error, never an oversized allocation or an out-of-bounds read.
 #pragma once
 
-#include "core/scene_desc.h"
+#include "core/scene/scene_desc.h"
 
 #include <string>
 #include <string_view>

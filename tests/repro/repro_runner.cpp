@@ -1,8 +1,8 @@
 // The child-process runner of the reproducer tests: see repro_runner.h.
 #include "repro_runner.h"
 
-#include "core/png_io.h"
-#include "core/sanitized.h"
+#include "core/io/png_io.h"
+#include "core/util/sanitized.h"
 
 #include <gtest/gtest.h>
 

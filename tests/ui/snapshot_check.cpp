@@ -1,7 +1,7 @@
 // Checks a `caustica view --snapshot` PNG of the default 1280 x 720 window: written by the
 // expected platform, the sidebar panel on the right, a rendered (not blank) image on the left,
 // and the projection-map overlay's outline on it. Used by xvfb_view_test.sh.
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 
 #include <algorithm>
 #include <cmath>

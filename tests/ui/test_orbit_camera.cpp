@@ -1,6 +1,6 @@
 // The orbit camera and the image layout: exact return to the script's camera, orbits that keep
 // the distance and the target, pole limits, pan that follows the cursor, zoom, retargeting.
-#include "core/camera.h"
+#include "core/scene/camera.h"
 #include "ui/image_layout.h"
 #include "ui/orbit_camera.h"
 

@@ -6,7 +6,7 @@
 #include "ui/keys.h"
 #include "ui_test_support.h"
 
-#include "core/png_io.h"
+#include "core/io/png_io.h"
 
 #include <gtest/gtest.h>
 #include <imgui.h>

@@ -5,8 +5,8 @@
 #include "ui/view_model.h"
 #include "ui_test_support.h"
 
-#include "core/png_io.h"
-#include "core/source_location.h"
+#include "core/io/png_io.h"
+#include "core/scene/source_location.h"
 
 #include <gtest/gtest.h>
 

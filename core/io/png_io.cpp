@@ -1,0 +1,580 @@
+#include "core/io/png_io.h"
+
+#include <png.h>
+
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace caustica {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// libpng glue shared by reading and writing
+
+/// Where libpng's error handler leaves its message; a fixed buffer, so that the handler (called
+/// inside libpng) cannot throw.
+struct PngErrorText {
+    char text[200] = {};
+};
+
+[[noreturn]] void png_error_handler(png_structp png, png_const_charp message) {
+    if (auto* error = static_cast<PngErrorText*>(png_get_error_ptr(png)))
+        std::snprintf(error->text, sizeof error->text, "%s", message ? message : "libpng error");
+    png_longjmp(png, 1);
+}
+
+void png_warning_handler(png_structp, png_const_charp) {}
+
+std::string error_or_default(const PngErrorText& error) {
+    return error.text[0] ? std::string(error.text) : std::string("libpng error");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading: a scan of the chunk structure and the header, then libpng with limits
+
+/// A PNG refused for a reason; the public functions add the file's name.
+class PngRejected : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+const char* const not_a_png = "not a PNG file";
+
+std::uint32_t big_endian_32(const unsigned char* p) {
+    return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | std::uint32_t(p[3]);
+}
+
+/// A chunk type for messages: "tEXt", or its bytes in hex when they are not letters.
+std::string chunk_name(const unsigned char* type) {
+    std::string name;
+    for (int i = 0; i < 4; ++i)
+        if (!std::isalpha(type[i])) {
+            char hex[16];
+            std::snprintf(hex, sizeof hex, "%02x%02x%02x%02x", type[0], type[1], type[2], type[3]);
+            return std::string("0x") + hex;
+        } else {
+            name += static_cast<char>(type[i]);
+        }
+    return name;
+}
+
+/// Channels of the decoded image: palettes become RGB, tRNS becomes alpha.
+int decoded_channels(int colour_type, bool has_transparency) {
+    switch (colour_type) {
+        case PNG_COLOR_TYPE_GRAY: return has_transparency ? 2 : 1;
+        case PNG_COLOR_TYPE_GRAY_ALPHA: return 2;
+        case PNG_COLOR_TYPE_RGB:
+        case PNG_COLOR_TYPE_PALETTE: return has_transparency ? 4 : 3;
+        default: return 4;
+    }
+}
+
+/// Checks the IHDR fields the way the PNG specification constrains them.
+PngHeader parse_ihdr(const unsigned char* body) {
+    PngHeader h;
+    const std::uint32_t width = big_endian_32(body), height = big_endian_32(body + 4);
+    const int depth = body[8], type = body[9], compression = body[10], filter = body[11], interlace = body[12];
+    if (width == 0 || height == 0)
+        throw PngRejected("the header declares an empty image (" + std::to_string(width) + " x " + std::to_string(height) + " pixels)");
+    constexpr std::uint32_t png_max = 0x7fffffffu;
+    if (width > png_max || height > png_max)
+        throw PngRejected("the header declares " + std::to_string(width) + " x " + std::to_string(height) +
+                          " pixels, more than PNG allows");
+    bool valid_depth = false;
+    switch (type) {
+        case PNG_COLOR_TYPE_GRAY: valid_depth = depth == 1 || depth == 2 || depth == 4 || depth == 8 || depth == 16; break;
+        case PNG_COLOR_TYPE_PALETTE: valid_depth = depth == 1 || depth == 2 || depth == 4 || depth == 8; break;
+        case PNG_COLOR_TYPE_RGB:
+        case PNG_COLOR_TYPE_GRAY_ALPHA:
+        case PNG_COLOR_TYPE_RGB_ALPHA: valid_depth = depth == 8 || depth == 16; break;
+        default: throw PngRejected("the header declares an unknown colour type " + std::to_string(type));
+    }
+    if (!valid_depth)
+        throw PngRejected("the header declares bit depth " + std::to_string(depth) + ", which colour type " +
+                          std::to_string(type) + " does not allow");
+    if (compression != 0 || filter != 0 || interlace > 1)
+        throw PngRejected("the header declares an unknown compression, filter or interlace method");
+    h.width = static_cast<int>(width);
+    h.height = static_cast<int>(height);
+    h.bit_depth = depth;
+    h.colour_type = type;
+    h.interlaced = interlace == 1;
+    return h;
+}
+
+/// The header's size against the limits: the pixel budget first (the clearer message).
+void check_limits(const PngHeader& h, const PngReadLimits& limits) {
+    const std::string size = std::to_string(h.width) + " x " + std::to_string(h.height) + " pixels";
+    const std::uint64_t pixels = std::uint64_t(h.width) * std::uint64_t(h.height);
+    if (pixels > limits.max_pixels)
+        throw PngRejected(size + " is more than the " + std::to_string(limits.max_pixels) + "-pixel " +
+                          limits.budget_name + " budget");
+    if (std::uint64_t(h.width) > limits.max_width)
+        throw PngRejected(size + ": the width is more than the " + std::to_string(limits.max_width) + " allowed");
+    if (std::uint64_t(h.height) > limits.max_height)
+        throw PngRejected(size + ": the height is more than the " + std::to_string(limits.max_height) + " allowed");
+}
+
+/// Walks the chunks: every chunk must lie inside the bytes (so no declared length makes libpng
+/// allocate more than the file holds), IHDR first, IEND last. Returns the checked header.
+PngHeader scan_png(std::span<const unsigned char> bytes, const PngReadLimits& limits) {
+    if (bytes.size() < 8 || png_sig_cmp(bytes.data(), 0, 8) != 0) throw PngRejected(not_a_png);
+    std::size_t at = 8;
+    bool seen_header = false, has_transparency = false, seen_end = false;
+    PngHeader header;
+    while (at < bytes.size() && !seen_end) {
+        if (bytes.size() - at < 8) throw PngRejected("truncated: a chunk is cut off at byte " + std::to_string(at));
+        const std::size_t remain = bytes.size() - at - 8;  // after the length and type fields
+        const std::uint32_t length = big_endian_32(bytes.data() + at);
+        const unsigned char* type = bytes.data() + at + 4;
+        if (length > 0x7fffffffu || length > remain)
+            throw PngRejected("chunk '" + chunk_name(type) + "' at byte " + std::to_string(at) + " declares " +
+                              std::to_string(length) + " bytes but only " + std::to_string(remain) +
+                              " remain in the file");
+        if (length + std::size_t(4) > remain)
+            throw PngRejected("truncated: the CRC of chunk '" + chunk_name(type) + "' is cut off");
+        if (!seen_header) {
+            if (std::memcmp(type, "IHDR", 4) != 0 || length != 13)
+                throw PngRejected("the first chunk is not a valid IHDR header");
+            header = parse_ihdr(type + 4);
+            seen_header = true;
+        }
+        if (std::memcmp(type, "tRNS", 4) == 0) has_transparency = true;
+        if (std::memcmp(type, "IEND", 4) == 0) seen_end = true;
+        at += 12 + std::size_t(length);
+    }
+    if (!seen_header) throw PngRejected("truncated: no IHDR header");
+    if (!seen_end) throw PngRejected("truncated: no IEND chunk");
+    header.channels = decoded_channels(header.colour_type, has_transparency);
+    check_limits(header, limits);
+    return header;
+}
+
+/// libpng's input: the bytes in memory.
+struct MemoryInput {
+    const unsigned char* data = nullptr;
+    std::size_t size = 0, at = 0;
+};
+
+void read_from_memory(png_structp png, png_bytep out, png_size_t count) {
+    auto* in = static_cast<MemoryInput*>(png_get_io_ptr(png));
+    if (count > in->size - in->at) png_error(png, "truncated");
+    std::memcpy(out, in->data + in->at, count);
+    in->at += count;
+}
+
+/// Owns libpng's read structures.
+struct PngReader {
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    PngErrorText error;
+    MemoryInput input;
+    ~PngReader() { png_destroy_read_struct(&png, info ? &info : nullptr, nullptr); }
+};
+
+/// Reads the chunks up to the image data and sets up 8-bit expansion; false on a libpng error.
+/// Only trivially destructible locals here: libpng's errors longjmp out of this frame.
+bool read_info(PngReader& r, const PngReadLimits& limits) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    png_set_user_limits(r.png, limits.max_width, limits.max_height);
+    png_set_chunk_malloc_max(r.png, limits.max_chunk_bytes);
+    png_set_chunk_cache_max(r.png, limits.max_ancillary_chunks);
+    // Compressed text can inflate without bound over many chunks; tEXt is enough for us.
+    static const png_byte ignored[] = {'z', 'T', 'X', 't', '\0', 'i', 'T', 'X', 't', '\0'};
+    png_set_keep_unknown_chunks(r.png, PNG_HANDLE_CHUNK_NEVER, ignored, 2);
+    png_set_read_fn(r.png, &r.input, read_from_memory);
+    png_set_sig_bytes(r.png, 8);
+    png_read_info(r.png, r.info);
+    png_set_strip_16(r.png);
+    png_set_packing(r.png);
+    png_set_expand(r.png);  // palette -> RGB, low-bit gray -> 8 bit, tRNS -> alpha
+    png_set_interlace_handling(r.png);
+    png_read_update_info(r.png, r.info);
+    return true;
+}
+
+/// Decodes the image data into `rows` and reads the chunks after it; false on a libpng error.
+bool read_rows(PngReader& r, png_bytepp rows) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    png_read_image(r.png, rows);
+    png_read_end(r.png, r.info);
+    return true;
+}
+
+/// Decodes, or throws PngRejected with the reason.
+Png8 decode_png(std::span<const unsigned char> bytes, const PngReadLimits& limits) {
+    const PngHeader header = scan_png(bytes, limits);
+    PngReader r;
+    r.input = {bytes.data(), bytes.size(), 8};
+    r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &r.error, png_error_handler, png_warning_handler);
+    if (r.png) r.info = png_create_info_struct(r.png);
+    if (!r.png || !r.info) throw std::bad_alloc();
+    if (!read_info(r, limits)) throw PngRejected(error_or_default(r.error));
+    Png8 result;
+    result.width = static_cast<int>(png_get_image_width(r.png, r.info));
+    result.height = static_cast<int>(png_get_image_height(r.png, r.info));
+    result.channels = png_get_channels(r.png, r.info);
+    if (result.width != header.width || result.height != header.height || result.channels != header.channels ||
+        png_get_rowbytes(r.png, r.info) != std::size_t(result.width) * std::size_t(result.channels))
+        throw PngRejected("the decoded layout differs from the header");  // cannot happen with a valid scan
+    result.data.resize(header.decoded_bytes());
+    std::vector<png_bytep> rows(static_cast<std::size_t>(result.height));
+    const std::size_t stride = std::size_t(result.width) * std::size_t(result.channels);
+    for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = result.data.data() + y * stride;
+    if (!read_rows(r, rows.data())) throw PngRejected(error_or_default(r.error));
+    png_textp texts = nullptr;
+    int count = 0;
+    png_get_text(r.png, r.info, &texts, &count);
+    for (int i = 0; i < count; ++i) result.text.emplace_back(texts[i].key, texts[i].text ? texts[i].text : "");
+    return result;
+}
+
+/// The whole of a regular file of at most `max_bytes`; throws std::runtime_error with the reason.
+std::vector<unsigned char> read_regular_file(const std::string& path, std::uint64_t max_bytes) {
+    // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused just below.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) throw std::runtime_error(std::strerror(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw std::runtime_error(std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) throw std::runtime_error("not a regular file");
+    if (std::uint64_t(st.st_size) > max_bytes)
+        throw std::runtime_error("the file has " + std::to_string(st.st_size) + " bytes, more than the " +
+                                 std::to_string(max_bytes) + " allowed");
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(st.st_size));
+    std::size_t got = 0;
+    while (got < bytes.size()) {
+        const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw std::runtime_error(std::strerror(errno));
+        if (n == 0) break;  // the file shrank: decode what is there
+        got += std::size_t(n);
+    }
+    bytes.resize(got);
+    return bytes;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing: temporaries a signal handler can find, stale ones from killed runs
+
+/// What follows the output's name in a temporary: of a write, or of the check before rendering.
+constexpr const char* write_marker = ".caustica-tmp-";
+constexpr const char* probe_marker = ".caustica-probe-";
+
+/// The temporary of one write in progress, readable from a signal handler: `sequence` is odd
+/// while the name changes, so a handler that sees it change skips a torn name.
+struct TemporarySlot {
+    std::atomic<bool> claimed{false};
+    std::atomic<bool> live{false};
+    std::atomic<unsigned> sequence{0};
+    std::atomic<char> name[4096];
+};
+constexpr int temporary_slot_count = 8;
+TemporarySlot temporary_slots[temporary_slot_count];
+static_assert(std::atomic<char>::is_always_lock_free && std::atomic<unsigned>::is_always_lock_free &&
+              std::atomic<bool>::is_always_lock_free, "signal handlers need lock-free atomics");
+
+/// Holds one slot for a write in progress and publishes its temporary's (absolute) name for the
+/// signal handler. Without a free slot (more writes at once than slots) or with a name too long,
+/// publishing does nothing: the write is then unprotected against a second signal, but still
+/// cleaned up by cancellation and by stale-file removal.
+class PublishedTemporary {
+public:
+    PublishedTemporary() {
+        for (TemporarySlot& slot : temporary_slots) {
+            bool expected = false;
+            if (slot.claimed.compare_exchange_strong(expected, true)) {
+                slot_ = &slot;
+                return;
+            }
+        }
+    }
+    ~PublishedTemporary() {
+        if (!slot_) return;
+        slot_->live.store(false);
+        slot_->claimed.store(false);
+    }
+    PublishedTemporary(const PublishedTemporary&) = delete;
+    PublishedTemporary& operator=(const PublishedTemporary&) = delete;
+
+    /// Makes `path` the name a signal handler removes.
+    void publish(const std::string& path) {
+        if (!slot_ || path.size() >= sizeof(TemporarySlot::name)) return;
+        slot_->sequence.fetch_add(1);
+        for (std::size_t i = 0; i < path.size(); ++i) slot_->name[i].store(path[i], std::memory_order_relaxed);
+        slot_->name[path.size()].store('\0', std::memory_order_relaxed);
+        slot_->sequence.fetch_add(1);
+        slot_->live.store(true);
+    }
+
+private:
+    TemporarySlot* slot_ = nullptr;
+};
+
+/// This machine's name as it appears in temporaries: letters, digits, '.' and '_' only, so the
+/// name parses back; a temporary from another host is never taken for one of ours.
+const std::string& host_tag() {
+    static const std::string tag = [] {
+        char host[256] = {};
+        if (::gethostname(host, sizeof host - 1) != 0 || !host[0]) return std::string("host");
+        std::string t;
+        for (const char* c = host; *c && t.size() < 40; ++c)
+            t += (std::isalnum(static_cast<unsigned char>(*c)) || *c == '.' || *c == '_') ? *c : '_';
+        return t;
+    }();
+    return tag;
+}
+
+/// The process id of a temporary of ours on this host, or 0 when `name` is not one:
+/// ".NAME.caustica-tmp-HOST-PID-N" (or -probe-) with HOST our host tag and PID, N decimal.
+pid_t temporary_owner(const std::string& name) {
+    const char* kind = write_marker;
+    std::size_t marker = name.rfind(kind);
+    if (marker == std::string::npos) marker = name.rfind(kind = probe_marker);
+    if (name.size() < 2 || name[0] != '.' || marker == std::string::npos || marker < 2) return 0;
+    const std::string rest = name.substr(marker + std::strlen(kind));  // HOST-PID-N
+    const std::string& host = host_tag();
+    if (rest.compare(0, host.size(), host) != 0 || rest.size() <= host.size() || rest[host.size()] != '-') return 0;
+    const std::string numbers = rest.substr(host.size() + 1);  // PID-N
+    const std::size_t dash = numbers.find('-');
+    if (dash == 0 || dash == std::string::npos || dash + 1 == numbers.size() || dash > 9) return 0;
+    for (std::size_t i = 0; i < numbers.size(); ++i)
+        if (i != dash && !std::isdigit(static_cast<unsigned char>(numbers[i]))) return 0;
+    const long pid = std::stol(numbers.substr(0, dash));
+    return pid > 0 && pid <= std::numeric_limits<pid_t>::max() ? static_cast<pid_t>(pid) : 0;
+}
+
+/// A temporary name beside `path` for this process: ".NAME.caustica-tmp-HOST-PID-N" (`marker`
+/// in the middle), NAME shortened when the whole would pass the 255-byte file name limit.
+std::filesystem::path temporary_path(const std::filesystem::path& path, unsigned serial, const char* marker) {
+    const std::string suffix = marker + host_tag() + "-" + std::to_string(::getpid()) + "-" + std::to_string(serial);
+    std::string stem = path.filename().string();
+    const std::size_t room = 255 - 1 - suffix.size();
+    if (stem.size() > room) stem.resize(room);
+    return path.parent_path() / ("." + stem + suffix);
+}
+
+/// Encodes the rows under libpng's setjmp protocol; only trivially destructible locals here.
+enum class WriteOutcome { written, failed, cancelled };
+
+struct PngWriter {
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    PngErrorText error;
+    std::vector<unsigned char> row;
+    std::vector<png_text> texts;
+    ~PngWriter() { png_destroy_write_struct(&png, info ? &info : nullptr); }
+};
+
+WriteOutcome write_png_rows(PngWriter& w, FILE* file, const Image& image, PixelEncoding encoding,
+                            const std::atomic<bool>* cancel) {
+    if (setjmp(png_jmpbuf(w.png))) return WriteOutcome::failed;
+    png_init_io(w.png, file);
+    png_set_IHDR(w.png, w.info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
+                 PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (encoding == PixelEncoding::srgb) png_set_sRGB(w.png, w.info, PNG_sRGB_INTENT_PERCEPTUAL);
+    if (!w.texts.empty()) png_set_text(w.png, w.info, w.texts.data(), static_cast<int>(w.texts.size()));
+    png_write_info(w.png, w.info);
+    unsigned char* row = w.row.data();
+    for (int y = 0; y < image.height; ++y) {
+        if (cancel && cancel->load(std::memory_order_relaxed)) return WriteOutcome::cancelled;
+        for (int x = 0; x < image.width; ++x) {
+            const glm::vec3& p = image.at(x, y);
+            for (int c = 0; c < 3; ++c) row[x * 3 + c] = encode_channel(p[c], encoding);
+        }
+        png_write_row(w.png, row);
+    }
+    png_write_end(w.png, w.info);
+    return WriteOutcome::written;
+}
+
+/// Writes the PNG stream to `file`; returns the outcome and, when failed, the reason.
+WriteOutcome write_png_stream(FILE* file, const Image& image, PixelEncoding encoding,
+                              const std::vector<std::pair<std::string, std::string>>& text_chunks,
+                              const std::atomic<bool>* cancel, std::string& error) {
+    PngWriter w;
+    w.row.resize(static_cast<std::size_t>(image.width) * 3);
+    w.texts.resize(text_chunks.size());
+    for (std::size_t i = 0; i < text_chunks.size(); ++i) {
+        w.texts[i].compression = PNG_TEXT_COMPRESSION_NONE;
+        w.texts[i].key = const_cast<char*>(text_chunks[i].first.c_str());
+        w.texts[i].text = const_cast<char*>(text_chunks[i].second.c_str());
+        w.texts[i].text_length = text_chunks[i].second.size();
+    }
+    w.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &w.error, png_error_handler, png_warning_handler);
+    if (w.png) w.info = png_create_info_struct(w.png);
+    if (!w.png || !w.info) throw std::bad_alloc();
+    const WriteOutcome outcome = write_png_rows(w, file, image, encoding, cancel);
+    if (outcome == WriteOutcome::failed) error = error_or_default(w.error);
+    return outcome;
+}
+
+/// Creates the temporary exclusively (never reusing a file that is there), publishing its name
+/// before it exists so that a signal between the two still finds it. Returns the open stream,
+/// or null with errno set.
+FILE* create_temporary(const std::filesystem::path& target, const char* marker, PublishedTemporary& published,
+                       std::filesystem::path& temporary) {
+    static std::atomic<unsigned> next_serial{0};
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        temporary = temporary_path(target, next_serial.fetch_add(1), marker);
+        published.publish(temporary.string());
+        const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno == EEXIST) continue;
+        if (fd < 0) return nullptr;
+        FILE* file = ::fdopen(fd, "wb");
+        if (!file) {
+            const int saved = errno;
+            ::close(fd);
+            ::unlink(temporary.c_str());
+            errno = saved;
+        }
+        return file;
+    }
+    errno = EEXIST;
+    return nullptr;
+}
+
+}  // namespace
+
+unsigned char encode_channel(float value, PixelEncoding encoding) {
+    float v = std::isnan(value) ? 0.0f : std::fmin(std::fmax(value, 0.0f), 1.0f);
+    if (encoding == PixelEncoding::srgb)
+        v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+    // v * 255 lies in [0, 255]: adding 0.5 in double is exact, so truncating rounds half up
+    // exactly as std::lround does (checked over every float in [0, 1]), without its cost.
+    return static_cast<unsigned char>(static_cast<double>(v * 255.0f) + 0.5);
+}
+
+void remove_png_temporaries_from_signal_handler() noexcept {
+    for (TemporarySlot& slot : temporary_slots) {
+        if (!slot.live.load()) continue;
+        const unsigned before = slot.sequence.load();
+        if (before % 2 != 0) continue;
+        char name[sizeof(TemporarySlot::name)];
+        std::size_t i = 0;
+        for (; i + 1 < sizeof name; ++i)
+            if ((name[i] = slot.name[i].load(std::memory_order_relaxed)) == '\0') break;
+        name[i] = '\0';
+        std::atomic_thread_fence(std::memory_order_acquire);
+        if (slot.sequence.load() != before || !slot.live.load()) continue;
+        ::unlink(name);
+    }
+}
+
+int remove_stale_png_temporaries(const std::string& folder) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    int removed = 0;
+    const fs::path dir = folder.empty() ? fs::path(".") : fs::path(folder);
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        const pid_t owner = temporary_owner(name);
+        if (owner == 0 || owner == ::getpid()) continue;
+        struct stat st {};
+        if (::lstat(it->path().c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::geteuid()) continue;
+        if (::kill(owner, 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+        if (::unlink(it->path().c_str()) == 0) ++removed;
+    }
+    return removed;
+}
+
+void write_png_atomic(const std::string& path, const Image& image, PixelEncoding encoding,
+                      const std::vector<std::pair<std::string, std::string>>& text,
+                      const std::atomic<bool>* cancel) {
+    namespace fs = std::filesystem;
+    if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": cannot write an empty image");
+    std::error_code ec;
+    const fs::path target = fs::absolute(path, ec);
+    if (ec) throw std::runtime_error("cannot write '" + path + "': " + ec.message());
+    remove_stale_png_temporaries(target.parent_path().string());
+
+    PublishedTemporary published;
+    fs::path temporary;
+    std::unique_ptr<FILE, int (*)(FILE*)> file(create_temporary(target, write_marker, published, temporary), std::fclose);
+    if (!file) throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
+    std::string error;
+    WriteOutcome outcome = write_png_stream(file.get(), image, encoding, text, cancel, error);
+    if (outcome == WriteOutcome::written && (std::fflush(file.get()) != 0 || ::fsync(::fileno(file.get())) != 0)) {
+        outcome = WriteOutcome::failed;
+        error = std::strerror(errno);
+    }
+    if (std::fclose(file.release()) != 0 && outcome == WriteOutcome::written) {
+        outcome = WriteOutcome::failed;
+        error = std::strerror(errno);
+    }
+    if (outcome == WriteOutcome::written && cancel && cancel->load()) outcome = WriteOutcome::cancelled;
+    if (outcome == WriteOutcome::written && std::rename(temporary.c_str(), target.c_str()) != 0) {
+        outcome = WriteOutcome::failed;
+        error = std::strerror(errno);
+    }
+    if (outcome == WriteOutcome::written) return;
+    ::unlink(temporary.c_str());
+    if (outcome == WriteOutcome::cancelled) throw PngWriteCancelled("writing '" + path + "' was interrupted; nothing written");
+    throw std::runtime_error("cannot write '" + path + "': " + error);
+}
+
+std::string png_output_problem(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path target = fs::absolute(path, ec);
+    if (ec) return ec.message();
+    if (target.filename().string().size() > 255) return std::strerror(ENAMETOOLONG);
+    if (fs::is_directory(target, ec)) return "it is a folder";
+    PublishedTemporary published;
+    fs::path temporary;
+    FILE* probe = create_temporary(target, probe_marker, published, temporary);
+    if (!probe) return std::strerror(errno);
+    std::fclose(probe);
+    ::unlink(temporary.c_str());
+    return {};
+}
+
+PngHeader read_png_header(std::span<const unsigned char> bytes, const std::string& display_name,
+                          const PngReadLimits& limits) {
+    try {
+        return scan_png(bytes, limits);
+    } catch (const PngRejected& e) {
+        throw std::runtime_error(display_name + ": " + e.what());
+    }
+}
+
+Png8 read_png_memory(std::span<const unsigned char> bytes, const std::string& display_name,
+                     const PngReadLimits& limits) {
+    try {
+        return decode_png(bytes, limits);
+    } catch (const PngRejected& e) {
+        throw std::runtime_error(display_name + ": " + e.what());
+    }
+}
+
+Png8 read_png(const std::string& path, const PngReadLimits& limits) {
+    std::vector<unsigned char> bytes;
+    try {
+        bytes = read_regular_file(path, limits.max_file_bytes);
+    } catch (const std::runtime_error& e) {
+        throw std::runtime_error("cannot open '" + path + "': " + e.what());
+    }
+    try {
+        return decode_png(bytes, limits);
+    } catch (const PngRejected& e) {
+        if (std::strcmp(e.what(), not_a_png) == 0) throw std::runtime_error("'" + path + "' is not a PNG file");
+        throw std::runtime_error("cannot read '" + path + "': " + e.what());
+    }
+}
+
+}  // namespace caustica

@@ -1,0 +1,96 @@
+#include "core/photons/caustic_stage.h"
+
+#include "core/render/random.h"
+#include "core/scene/source_location.h"
+
+#include <chrono>
+#include <random>
+
+namespace caustica {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool is_specular(const MaterialDesc& m) { return m.reflective || m.refractive_index.has_value() || m.air; }
+
+}  // namespace
+
+std::vector<Light> job_lights(const RenderJob& job) {
+    std::vector<Light> lights;
+    for (int index : job.lights) {
+        const LightDesc& d = job.scene->lights.at(index);
+        lights.push_back({glm::vec3(d.position), glm::vec3(d.colour), glm::vec3(d.falloff), static_cast<float>(d.radius)});
+    }
+    return lights;
+}
+
+bool caustics_needed(const RenderJob& job) {
+    const Options& o = job.options;
+    if (o.no_caustic_map || job.lights.empty()) return false;
+    if (o.caustic_num_photons <= 0 && !o.draw_caustic_prm) return false;
+    for (const NodeDesc& node : job.scene->nodes)
+        if (node.material >= 0 && is_specular(job.scene->materials[node.material])) return true;
+    return false;
+}
+
+std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_key) {
+    const Options& o = job.options;
+    std::uint64_t h = mix64(geometry_key ^ 0x63617573746963ULL);
+    for (const Light& l : job_lights(job)) {
+        for (int i = 0; i < 3; ++i) h = hash_double(hash_double(hash_double(h, l.position[i]), l.colour[i]), l.falloff[i]);
+        h = hash_double(h, l.radius);
+    }
+    h = hash_double(h, static_cast<double>(o.caustic_num_photons));
+    h = hash_double(h, o.unit_distance);
+    h = hash_double(h, o.energy_fudge);
+    h = hash_double(h, static_cast<double>(o.projection_map) * 1e6 + o.caustic_pm_gran);
+    h = hash_double(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.draw_caustic_prm ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0));
+    h = hash_double(h, static_cast<double>(o.seed));
+    h = hash_double(h, o.max_depth);
+    return h | 1;  // never 0, which means "nothing built"
+}
+
+void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                         const std::atomic<bool>* cancel) {
+    const Options& o = job.options;
+    // The roulette needs P(diffuse) + P(specular) <= 1 where a surface is a mirror (seed 1.1.1).
+    // A transparent material's kd is its medium colour, not a reflectance: it is not counted.
+    for (const MaterialDesc& m : job.scene->materials) {
+        if (!m.reflective || m.refractive_index.has_value() || m.air) continue;
+        const double sum = (m.kd.x + m.kd.y + m.kd.z) / 3.0 + (m.ks.x + m.ks.y + m.ks.z) / 3.0;
+        if (sum > 1.0 + 1e-9)
+            throw InputError(m.where, "gr.material: mean(kd) + mean(ks) = " + std::to_string(sum) +
+                                          " exceeds 1 on a specular material: photons would gain energy");
+    }
+    stage = CausticStage{};
+    stage.key = caustic_fingerprint(job, 0);
+    const std::vector<Light> lights = job_lights(job);
+    PhotonPassSettings settings;
+    settings.photons_per_light = o.caustic_num_photons;
+    settings.unit_distance = o.unit_distance;
+    settings.energy_fudge = o.energy_fudge;
+    settings.projection_map = o.projection_map;
+    settings.projection_map_granularity = o.caustic_pm_gran;
+    settings.emission = o.photon_random_emission ? PhotonEmission::random : PhotonEmission::low_discrepancy;
+    settings.seed = o.reproducible ? static_cast<std::uint64_t>(o.seed) : (static_cast<std::uint64_t>(o.seed) ^ std::random_device{}());
+    settings.max_depth = o.max_depth;
+    PhotonPassResult pass = shoot_caustic_photons(scene, lights, settings, cancel);
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const LightPhotonReport& r = pass.lights[l];
+        stage.lights.push_back({r.candidates, r.traced, r.stored, r.projection_map_used, r.occupied_fraction});
+        stage.map_seconds += r.map_seconds;
+        stage.shoot_seconds += r.shoot_seconds;
+        if (!r.warning.empty())
+            stage.warnings.push_back(job.scene->lights[job.lights[l]].where.str() + ": gr.light: " + r.warning);
+        stage.light_positions.push_back(lights[l].position);
+    }
+    stage.projection_maps = std::move(pass.maps);
+    const auto t0 = std::chrono::steady_clock::now();
+    if (cancel && cancel->load()) return;  // a cancelled pass is thrown away: no tree for it
+    if (o.caustic_num_photons > 0) stage.map = std::make_unique<PhotonMap>(std::move(pass.photons));
+    stage.tree_seconds = seconds_since(t0);
+}
+
+}  // namespace caustica

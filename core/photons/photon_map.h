@@ -1,0 +1,52 @@
+// The caustic photon map: stored photons in a k-D tree, and the radiance estimate (seed 1.1.3).
+#pragma once
+
+#include "core/photons/photon_kdtree.h"
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace caustica {
+
+/// A photon as stored at a diffuse surface: where, how much power, travelling which way.
+struct Photon {
+    glm::vec3 position;
+    glm::vec3 power;
+    glm::vec3 direction;  ///< unit direction of travel when it arrived
+};
+
+/// How the N nearest photons are weighted in the estimate.
+enum class PhotonFilter {
+    none,  ///< the seed's plain disc average
+    cone,  ///< Jensen's cone filter, k = 1.1: w = 1 - d / (k r), normalised by 1 - 2 / (3k)
+};
+
+/// Photons in tree order with their k-D tree.
+class PhotonMap {
+public:
+    PhotonMap() = default;
+    /// Builds the k-D tree (O(n log n)) and stores the photons in its order.
+    explicit PhotonMap(std::vector<Photon> photons);
+
+    /// Irradiance-like estimate at a surface point with unit normal `n` (facing the viewer):
+    /// the power of the `k` nearest photons within `max_distance` arriving from the front side,
+    /// over the area of the disc holding them: pi r^2 with r the distance of the k-th photon
+    /// (seed 1.1.3). When fewer than k photons lie within max_distance, the disc searched
+    /// (radius max_distance) is used instead, so isolated photons do not make bright spots.
+    /// `scratch` must hold k entries.
+    glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,
+                       Neighbour* scratch) const;
+
+    /// The photon at tree position i.
+    const Photon& photon(std::size_t i) const { return photons_[i]; }
+    std::size_t size() const { return photons_.size(); }
+    const PhotonKdTree& tree() const { return tree_; }
+    std::size_t memory_bytes() const { return tree_.memory_bytes() + photons_.size() * sizeof(Photon); }
+
+private:
+    PhotonKdTree tree_;
+    std::vector<Photon> photons_;
+};
+
+}  // namespace caustica

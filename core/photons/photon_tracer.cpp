@@ -1,0 +1,230 @@
+#include "core/photons/photon_tracer.h"
+
+#include "core/util/denormals.h"
+#include "core/shading/medium_stack.h"
+#include "core/shading/optics.h"
+#include "core/util/radiance_range.h"
+#include "core/render/random.h"
+#include "core/scene/source_location.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <unistd.h>
+
+namespace caustica {
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+constexpr long long block_size = 4096;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+float mean(const glm::vec3& v) { return (v.x + v.y + v.z) / 3.0f; }
+
+/// Van der Corput radical inverse in base 2.
+float radical_inverse2(std::uint32_t i) {
+    i = (i << 16) | (i >> 16);
+    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
+    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
+    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
+    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
+    return static_cast<float>(i >> 8) * (1.0f / 16777216.0f);
+}
+
+/// Uniform direction on the sphere from a point of the unit square (area-preserving).
+glm::vec3 sphere_direction(float u, float v) {
+    const float y = 1.0f - 2.0f * u;
+    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+    const float phi = 2.0f * static_cast<float>(pi) * v;
+    return {r * std::cos(phi), y, r * std::sin(phi)};
+}
+
+/// Traces one photon; appends it to `out` if it ends on a diffuse surface after a specular bounce.
+void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_depth, float unit_distance,
+                  RandomStream& random, std::vector<Photon>& out) {
+    const auto& materials = scene.materials();
+    const float eps = scene.epsilon();
+    MediumStack media;
+    int specular_bounces = 0;
+    for (int depth = 0; depth <= max_depth; ++depth) {
+        SurfaceHit hit;
+        if (!scene.intersect(ray, hit)) return;
+        if (const int medium = media.top(); medium >= 0)
+            power = saturate(power * medium_transmittance(materials[medium].medium_colour, hit.t, unit_distance));
+        const Material& m = materials[hit.material];
+        // A diffuse surface reached after a specular interaction stores the photon (an L S+ D
+        // path); its incident power is kept, kd is applied when the estimate is shaded.
+        if (!m.transparent && m.kd != glm::vec3(0.0f) && specular_bounces > 0)
+            out.push_back({hit.position, power, ray.direction});
+        // Russian roulette decides what happens next (seed 1.1.1). Diffuse reflection ends a
+        // caustic path (the caustic map holds no diffuse bounce); so does absorption.
+        const RouletteOdds odds = roulette_odds(m);
+        const float xi = random.uniform();
+        if (xi < odds.diffuse || xi >= odds.diffuse + odds.specular) return;
+        const glm::vec3 ks = m.air ? glm::vec3(1.0f) : m.ks;
+        power = saturate(power * (ks / odds.specular));  // ks / odds.specular is at most 3
+        const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
+        ++specular_bounces;
+        if (!m.transparent) {
+            ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
+            continue;
+        }
+        const MediumTransition t = medium_transition(hit, ray.direction, media);
+        const float n1 = t.from < 0 ? 1.0f : materials[t.from].refractive_index;
+        const float n2 = t.to < 0 ? 1.0f : materials[t.to].refractive_index;
+        const float reflectance = fresnel_reflectance(n1, n2, -glm::dot(n, ray.direction));
+        glm::vec3 refracted;
+        if (random.uniform() >= reflectance && refract_direction(ray.direction, n, n1, n2, refracted)) {
+            media = t.after;
+            ray = Ray{hit.position, refracted, eps, ray_infinity};
+        } else {
+            ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
+        }
+    }
+}
+
+}  // namespace
+
+glm::vec3 photon_energy(const Light& light, double unit_distance, long long photons, double fudge) {
+    const double scale = 4.0 * pi * unit_distance * unit_distance / (light.falloff.z * static_cast<double>(photons));
+    // scene_validate refuses powers above max_photon_power; the cap keeps the float cast defined.
+    const double power = std::fmin(scale * fudge, static_cast<double>(max_radiance));
+    return saturate(glm::vec3(light.colour) * static_cast<float>(power));
+}
+
+RouletteOdds roulette_odds(const Material& m) {
+    RouletteOdds odds;
+    if (m.air) {
+        odds.specular = 1.0f;
+        return odds;
+    }
+    odds.diffuse = m.transparent ? 0.0f : mean(m.kd);
+    odds.specular = (m.reflective || m.transparent) ? mean(m.ks) : 0.0f;
+    return odds;
+}
+
+double photon_memory_bound(double photons) {
+    // Stored photon twice (block buffers, then the map), its tree position, order entry and node share.
+    constexpr double bytes_per_photon = sizeof(Photon) * 2 + sizeof(glm::vec3) + 4 + 16.0 / 6.0;
+    return photons * bytes_per_photon;
+}
+
+void check_photon_memory(double photons, long long requested, double budget_bytes) {
+    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    const double budget = budget_bytes > 0.0 ? budget_bytes : 0.6 * physical;
+    const double needed = photon_memory_bound(photons);
+    if (needed <= budget) return;
+    char message[320];
+    std::snprintf(message, sizeof message,
+                  "--caustic-num-photons %lld: the %.3g photons the projection maps let through would need up to "
+                  "%.1f GiB for the photon map, more than the %.1f GiB this machine can spare",
+                  requested, photons, needed / (1 << 30), budget / (1 << 30));
+    throw InputError(message);
+}
+
+PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vector<Light>& lights,
+                                       const PhotonPassSettings& settings, const std::atomic<bool>* cancel) {
+    PhotonPassResult result;
+    result.maps.resize(lights.size());
+    result.lights.resize(lights.size());
+    const long long count = settings.photons_per_light;
+    double expected_photons = 0.0;  // over all lights: what the maps let through, at most stored
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const Light& light = lights[l];
+        LightPhotonReport& report = result.lights[l];
+        if (!(light.falloff.z > 0.0f)) {
+            report.warning = "has no quadratic falloff (c2 = 0), so it gets no caustic photons";
+            continue;
+        }
+        // Auto decides from what the map would cost (one ray per cell) and save (the photons
+        // outside it): no map with fewer photons than twice its cells, and none when a coarse map
+        // (1/16 of the rays) shows 90% of the sphere occupied. Measured in docs/PERFORMANCE.md.
+        const bool automatic = settings.projection_map == ProjectionMapMode::automatic;
+        const long long cells = 2LL * settings.projection_map_granularity * settings.projection_map_granularity;
+        bool try_map = settings.projection_map == ProjectionMapMode::on || (automatic && count > 2 * cells);
+        const auto t_map = std::chrono::steady_clock::now();
+        if (try_map && automatic) {
+            ProjectionMap coarse(std::max(8, settings.projection_map_granularity / 4));
+            coarse.build(scene, light.position);
+            report.occupied_fraction = coarse.occupied_fraction();
+            try_map = report.occupied_fraction < 0.9;
+        }
+        if (try_map) {
+            ProjectionMap map(settings.projection_map_granularity);
+            map.build(scene, light.position);
+            report.occupied_fraction = map.occupied_fraction();
+            report.projection_map_used = !automatic || report.occupied_fraction < 0.9;
+            result.maps[l] = std::move(map);
+        }
+        report.map_seconds = seconds_since(t_map);
+        const ProjectionMap* map = report.projection_map_used ? &result.maps[l] : nullptr;
+        // Refuse before anything is allocated for photons; margin for the map's padding.
+        expected_photons += static_cast<double>(count) * (map ? std::min(1.0, 1.1 * report.occupied_fraction) : 1.0);
+        check_photon_memory(expected_photons, count, settings.memory_budget_bytes);
+        const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
+        const auto t0 = std::chrono::steady_clock::now();
+        const long long blocks = (count + block_size - 1) / block_size;
+        std::vector<std::vector<Photon>> stored(static_cast<std::size_t>(blocks));
+        std::vector<long long> traced(static_cast<std::size_t>(blocks), 0);
+        RandomStream rotation_stream(settings.seed, 0x70686f746f6e ^ l, 7);
+        const float rotate_u = rotation_stream.uniform(), rotate_v = rotation_stream.uniform();
+        tbb::parallel_for(tbb::blocked_range<long long>(0, blocks, 1), [&](const tbb::blocked_range<long long>& r) {
+            const ScopedFlushDenormals flush;
+            for (long long b = r.begin(); b != r.end(); ++b) {
+                if (cancel && cancel->load(std::memory_order_relaxed)) return;
+                const long long begin = b * block_size, end = std::min(count, (b + 1) * block_size);
+                const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;
+                // Low-discrepancy directions run through the map's rows in order of i (u is
+                // monotonic in i): a block whose rows are all empty is skipped at once.
+                auto u_of = [&](long long i) {
+                    const double u = (static_cast<double>(i) + 0.5) / static_cast<double>(count) + rotate_u;
+                    return u - std::floor(u);
+                };
+                if (map && low_discrepancy &&
+                    !map->any_occupied_between(u_of(begin), u_of(begin) + static_cast<double>(end - begin) / count))
+                    continue;
+                for (long long i = begin; i < end; ++i) {
+                    float u, v;
+                    if (low_discrepancy) {
+                        u = static_cast<float>(u_of(i));
+                        v = radical_inverse2(static_cast<std::uint32_t>(i)) + rotate_v;
+                        v -= std::floor(v);
+                        if (map && !map->occupied_uv(u, v)) continue;
+                    }
+                    RandomStream random(settings.seed, (static_cast<std::uint64_t>(l) << 40) ^ static_cast<std::uint64_t>(i), 3);
+                    if (!low_discrepancy) {
+                        u = random.uniform();
+                        v = random.uniform();
+                    }
+                    if (map && !low_discrepancy && !map->occupied_uv(u, v)) continue;
+                    const glm::vec3 direction = sphere_direction(u, v);
+                    ++traced[b];
+                    glm::vec3 origin = light.position;
+                    if (light.radius > 0.0f) {  // spherical light: leave from its surface
+                        glm::vec3 s = sphere_direction(random.uniform(), random.uniform());
+                        if (glm::dot(s, direction) < 0.0f) s = -s;
+                        origin += light.radius * s;
+                    }
+                    trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, energy, settings.max_depth,
+                                 static_cast<float>(settings.unit_distance), random, stored[b]);
+                }
+            }
+        });
+        report.candidates = count;
+        for (long long b = 0; b < blocks; ++b) {
+            report.traced += traced[b];
+            report.stored += static_cast<long long>(stored[b].size());
+            result.photons.insert(result.photons.end(), stored[b].begin(), stored[b].end());
+        }
+        report.shoot_seconds = seconds_since(t0);
+    }
+    return result;
+}
+
+}  // namespace caustica

@@ -1,0 +1,81 @@
+// The caustic photon pass (seed 1.1.1): photons leave each light with the seed's energy rule,
+// meet surfaces by Russian roulette, and are stored at their first diffuse hit after at least one
+// specular interaction (L S+ D paths), where their path ends.
+#pragma once
+
+#include "core/shading/material.h"
+#include "core/scene/options.h"
+#include "core/photons/photon_map.h"
+#include "core/photons/projection_map.h"
+#include "core/geometry/render_scene.h"
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+namespace caustica {
+
+/// How photon directions are drawn.
+enum class PhotonEmission {
+    low_discrepancy,  ///< Hammersley points with a random rotation (the default)
+    random,           ///< independent uniform directions
+};
+
+/// Inputs of a photon pass.
+struct PhotonPassSettings {
+    long long photons_per_light = 0;  ///< P: photons over each light's full sphere
+    double unit_distance = 1.0;
+    double energy_fudge = 1.0;
+    ProjectionMapMode projection_map = ProjectionMapMode::automatic;
+    int projection_map_granularity = 180;
+    PhotonEmission emission = PhotonEmission::low_discrepancy;
+    std::uint64_t seed = 0;
+    int max_depth = 8;  ///< specular interactions before a photon is dropped
+    double memory_budget_bytes = 0.0;  ///< refuse passes whose photons could exceed this (0 = 60% of RAM)
+};
+
+/// What happened for one light.
+struct LightPhotonReport {
+    long long candidates = 0;     ///< directions considered (P)
+    long long traced = 0;         ///< photons actually traced (inside the projection map)
+    long long stored = 0;
+    bool projection_map_used = false;
+    double occupied_fraction = 1.0;
+    double map_seconds = 0.0, shoot_seconds = 0.0;
+    std::string warning;          ///< e.g. no quadratic falloff
+};
+
+/// The photons of all lights, with the projection maps that were built.
+struct PhotonPassResult {
+    std::vector<Photon> photons;
+    std::vector<ProjectionMap> maps;     ///< one per light (empty map when none was built)
+    std::vector<LightPhotonReport> lights;
+};
+
+/// The seed's photon energy rule (seed 1.1.1): E = 4 pi d_u^2 C_light / (f_light P), with
+/// f_light the light's quadratic falloff coefficient and P the photons over the whole sphere;
+/// `fudge` scales it (--energy-fudge).
+glm::vec3 photon_energy(const Light& light, double unit_distance, long long photons, double fudge);
+
+/// Russian roulette at a surface (seed 1.1.1): P(diffuse) = mean(kd), P(specular) = mean(ks)
+/// for mirrors and dielectrics (0 otherwise, air 1), absorption takes the rest.
+struct RouletteOdds {
+    float diffuse = 0.0f, specular = 0.0f;
+};
+RouletteOdds roulette_odds(const Material& m);
+
+/// Bytes a photon map of `photons` stored photons may need at most (photons, tree, build buffers).
+double photon_memory_bound(double photons);
+
+/// Throws InputError when `photons` stored photons could not fit in `budget_bytes` (0 = 60% of
+/// the machine's memory). Called before anything is allocated for them.
+void check_photon_memory(double photons, long long requested, double budget_bytes);
+
+/// Shoots the caustic photons of every light in parallel. Each photon has its own random stream
+/// keyed by (seed, light, photon index), so the result is the same for any thread count.
+/// Stops early (returning what it has) when `cancel` becomes true. Throws InputError, before
+/// shooting, when the photons the maps let through could not fit in memory.
+PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vector<Light>& lights,
+                                       const PhotonPassSettings& settings, const std::atomic<bool>* cancel);
+
+}  // namespace caustica

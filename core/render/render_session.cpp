@@ -1,0 +1,416 @@
+#include "core/render/render_session.h"
+
+#include "core/scene/camera.h"
+#include "core/photons/caustic_stage.h"
+#include "core/util/denormals.h"
+#include "core/integrators/integrator.h"
+#include "core/render/random.h"
+#include "core/geometry/render_scene.h"
+#include "core/scene/scene_flatten.h"
+#include "core/scene/scene_validate.h"
+#include "core/scene/source_location.h"
+#include "core/shading/texture.h"
+#include "core/render/tile_renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <random>
+
+namespace caustica {
+namespace {
+
+double now_seconds() {
+    using clock = std::chrono::steady_clock;
+    return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
+}
+
+std::uint64_t hash_vec(std::uint64_t h, const glm::dvec3& v) {
+    return hash_double(hash_double(hash_double(h, v.x), v.y), v.z);
+}
+
+/// Folds an index that may be -1 (none) into a running hash, in unsigned arithmetic.
+std::uint64_t hash_index(std::uint64_t h, int index) {
+    return hash_combine(h, static_cast<std::uint64_t>(static_cast<std::int64_t>(index) + 1));
+}
+
+}  // namespace
+
+std::uint64_t geometry_fingerprint(const RenderJob& job) {
+    std::uint64_t h = hash_combine(0x6361757374696361ULL, static_cast<std::uint64_t>(job.root));
+    h = hash_combine(h, (job.options.a4 ? 1 : 0) + (job.options.disable_csg_bb ? 2 : 0) + (job.options.disable_bv ? 4 : 0));
+    const SceneDesc& scene = *job.scene;
+    for (const NodeDesc& node : scene.nodes) {
+        h = hash_combine(h, static_cast<std::uint64_t>(node.kind));
+        for (const TransformOp& op : node.transforms) {
+            h = hash_combine(h, static_cast<std::uint64_t>(op.kind) * 4 + static_cast<std::uint64_t>(op.axis));
+            h = hash_double(hash_vec(h, op.amount), op.degrees);
+        }
+        for (int child : node.children) h = hash_index(h, child);
+        h = hash_index(h, node.material);
+        h = hash_double(hash_vec(h, node.position), node.size);
+        h = hash_index(h, node.mesh);
+        h = hash_index(hash_index(h, node.csg_left), node.csg_right);
+    }
+    for (const MaterialDesc& m : scene.materials) {
+        h = hash_double(hash_vec(hash_vec(h, m.kd), m.ks), m.shininess);
+        h = hash_combine(h, (m.reflective ? 1 : 0) + (m.air ? 2 : 0) + (m.refractive_index ? 4 : 0));
+        h = hash_double(h, m.refractive_index.value_or(0.0));
+        h = hash_index(hash_index(h, m.texture), m.bumpmap);
+    }
+    for (const TextureDesc& t : scene.textures) {
+        h = hash_combine(h, std::hash<std::string>{}(t.source));
+        h = hash_combine(h, std::hash<std::string>{}(t.remap) + (t.procedural ? 1 : 0));
+    }
+    for (const auto& mesh : scene.meshes) h = hash_combine(h, reinterpret_cast<std::uintptr_t>(mesh.get()));
+    return h;
+}
+
+RenderSession::RenderSession() = default;
+
+RenderSession::~RenderSession() {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+}
+
+void RenderSession::set_job(const RenderJob& job) {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+    job_ = job;
+    const int size = job_.options.resolution_override;
+    if (size > 0) job_.width = job_.height = size;
+    geometry_key_ = geometry_fingerprint(job_);
+    caustic_key_ = caustics_needed(job_) ? caustic_fingerprint(job_, geometry_key_) : 0;
+}
+
+void RenderSession::set_stage(const char* name) {
+    std::lock_guard lock(mutex_);
+    progress_.stage = name;
+}
+
+void RenderSession::prepare() {
+    if (!job_.scene) throw InputError("no scene to render");
+    validate_render_job(job_);  // numbers the renderer cannot compute with: refused with their line
+    prepare_scene();
+    if (cancel_requested_) return;  // the photon pass would be thrown away
+    prepare_caustics();
+}
+
+void RenderSession::prepare_scene() {
+    if (scene_ && built_geometry_key_ == geometry_key_) {
+        std::lock_guard lock(mutex_);
+        stats_.stages.push_back({"scene build", 0.0, true});
+        return;
+    }
+    set_stage("building the scene");
+    const double t0 = now_seconds();
+    FlatScene flat = flatten_scene(job_);
+    validate_flat_scene(flat, *job_.scene);
+    {
+        std::lock_guard lock(mutex_);  // pick() may be reading the old scene from another thread
+        scene_.reset();
+    }
+    textures_.reset();
+    {
+        std::lock_guard lock(mutex_);  // projection_maps() may be reading it
+        caustics_ = std::make_unique<CausticStage>();  // depends on the geometry
+    }
+    std::shared_ptr<const RenderScene> scene;
+    try {
+        scene = std::make_shared<const RenderScene>(*job_.scene, flat, &cancel_requested_);
+    } catch (const SceneBuildCancelled&) {
+        return;  // nothing built: the next render builds the scene again
+    }
+    textures_ = std::make_unique<TextureSet>(*job_.scene);
+    built_geometry_key_ = geometry_key_;
+    std::lock_guard lock(mutex_);
+    scene_ = std::move(scene);
+    warnings_ = std::move(flat.warnings);
+    ++counters_.scene_builds;
+    stats_.stages.push_back({"scene build", now_seconds() - t0, false});
+    stats_.scene = scene_->info();
+}
+
+void RenderSession::prepare_caustics() {
+    if (caustic_key_ == 0) {  // no photon pass: nothing specular, no photons, or disabled
+        std::lock_guard lock(mutex_);
+        caustics_ = std::make_unique<CausticStage>();
+        publish_caustic_stats();
+        return;
+    }
+    if (caustics_ && caustics_->key == caustic_key_) {
+        std::lock_guard lock(mutex_);
+        stats_.stages.push_back({"photon pass", 0.0, true});
+        publish_caustic_stats();
+        return;
+    }
+    set_stage("shooting photons");
+    auto fresh = std::make_unique<CausticStage>();
+    build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_);
+    fresh->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
+    std::lock_guard lock(mutex_);  // published at once: the preview shows maps and counts early
+    caustics_ = std::move(fresh);
+    ++counters_.photon_passes;
+    stats_.stages.push_back({"projection maps", caustics_->map_seconds, false});
+    stats_.stages.push_back({"photon shooting", caustics_->shoot_seconds, false});
+    stats_.stages.push_back({"photon k-d tree", caustics_->tree_seconds, false});
+    for (const std::string& w : caustics_->warnings) warnings_.push_back(w);
+    publish_caustic_stats();
+}
+
+void RenderSession::publish_caustic_stats() {
+    stats_.caustic_lights = caustics_->lights;
+    stats_.caustic_photons = caustics_->map ? caustics_->map->size() : 0;
+    stats_.caustic_map_bytes = caustics_->map ? caustics_->map->memory_bytes() : 0;
+}
+
+void RenderSession::start() {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+    cancel_requested_ = false;
+    error_ = nullptr;
+    {
+        std::lock_guard lock(mutex_);
+        progress_ = SessionProgress{};
+        progress_.generation = ++generation_;
+        progress_.running = true;
+        stats_.stages.clear();
+        stats_.rays = {};
+    }
+    tiles_done_ = 0;
+    // The image and its tiles are (re)made here, on the thread that also fetches tiles.
+    if (image_.width != job_.width || image_.height != job_.height) {
+        image_ = Image(job_.width, job_.height);
+        tiles_ = make_tiles(job_.width, job_.height, tile_size);
+        tile_mutexes_ = std::make_unique<std::mutex[]>(tiles_.size());
+        tile_versions_ = std::make_unique<std::atomic<std::uint64_t>[]>(tiles_.size());
+        for (std::size_t i = 0; i < tiles_.size(); ++i) tile_versions_[i] = 0;
+    }
+    start_time_ = now_seconds();
+    running_ = true;
+    worker_ = std::thread([this] { run(); });
+}
+
+namespace {
+
+/// An error about an option's value ("--caustic-num-photons 1e11: ...") set by gr.option names
+/// the line of that call.
+InputError located_option_error(const RenderJob& job, const InputError& error) {
+    const std::string message = error.what();
+    if (message.rfind("--", 0) != 0) return error;
+    const std::size_t end = message.find_first_of(" =:", 2);
+    const SourceLocation* origin = job.option_origin(message.substr(2, end == std::string::npos ? end : end - 2));
+    if (!origin) return error;
+    return InputError(*origin, "gr.option: " + message);
+}
+
+}  // namespace
+
+void RenderSession::run() {
+    try {
+        const int threads = job_.options.threads > 0 ? job_.options.threads : tbb::info::default_concurrency();
+        tbb::task_arena arena(threads);
+        // Flush-to-zero is set per task where rays are traced (tiles, photons, projection maps),
+        // not here: validation must see the smallest numbers as they are.
+        arena.execute([&] {
+            prepare();
+            if (!cancel_requested_) render_passes(arena, threads);
+        });
+    } catch (const InputError& e) {
+        error_ = std::make_exception_ptr(located_option_error(job_, e));
+    } catch (...) {
+        error_ = std::current_exception();
+    }
+    std::lock_guard lock(mutex_);
+    progress_.running = false;
+    progress_.cancelled = cancel_requested_.load();
+    progress_.finished = !error_ && !progress_.cancelled;
+    progress_.elapsed_seconds = now_seconds() - start_time_;
+    stats_.total_seconds = progress_.elapsed_seconds;
+    running_ = false;
+}
+
+void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
+    const Options& options = job_.options;
+    const int width = job_.width, height = job_.height;
+    const Camera camera(job_.camera, width, height);
+    ShadingSetup setup;
+    setup.scene = scene_.get();
+    setup.lights = job_lights(job_);
+    setup.ambient = glm::vec3(job_.ambient);
+    setup.miss_colour = glm::vec3(job_.miss_colour);
+    setup.sky = options.rays;
+    setup.max_depth = options.max_depth;
+    setup.min_weight = static_cast<float>(options.min_weight);
+    setup.shadow_grid = options.shadow_grid;
+    setup.soft_shadows = !options.no_soft_shadows;
+    // The smallest unit distances are below float's normal range: keep the divisor positive.
+    setup.unit_distance = std::max(static_cast<float>(options.unit_distance), std::numeric_limits<float>::min());
+    setup.textures = textures_.get();
+    if (caustics_ && caustics_->map) {
+        setup.caustic_map = caustics_->map.get();
+        setup.caustic_neighbours = options.caustic_num_neighbours;
+        setup.caustic_max_distance = static_cast<float>(options.effective_caustic_max_dist());
+        setup.caustic_filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
+    }
+    setup.draw_caustics_only = options.draw_caustics_only;
+    setup.draw_caustic_map = options.draw_caustic_map;
+    setup.dot_radius_per_distance =
+        static_cast<float>(std::tan(glm::radians(job_.camera.fovy_degrees) * 0.5) * 2.0 / height);
+    if (options.draw_caustic_prm && caustics_)
+        for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
+            if (!caustics_->projection_maps[l].empty())
+                setup.projection_maps.emplace_back(&caustics_->projection_maps[l], caustics_->light_positions[l]);
+    const Integrator integrator(setup);
+
+    TileContext context;
+    context.integrator = &integrator;
+    context.camera = &camera;
+    context.seed = options.reproducible ? static_cast<std::uint64_t>(options.seed)
+                                        : (static_cast<std::uint64_t>(options.seed) ^ std::random_device{}());
+    context.aa_grid = options.aa_grid;
+    context.aa_threshold = static_cast<float>(options.aa_threshold);
+    context.draw_aa = options.draw_aa;
+
+    const std::vector<Tile>& tiles = tiles_;
+    const bool antialias = !options.disable_aa && options.aa_grid > 1;
+    {
+        std::lock_guard lock(mutex_);
+        progress_.passes = (antialias ? 2 : 1) + (progressive_ ? 1 : 0);
+        progress_.tiles_total = tiles.size() * progress_.passes;
+    }
+    tbb::enumerable_thread_specific<RayCounters> counters;
+
+    // Each tile is rendered under its lock and then published with a new version, so a viewer
+    // copying tiles (fetch_tiles) never sees one half-written and never waits (it try-locks).
+    auto run_pass = [&](const char* name, int pass, auto&& body) {
+        set_stage(name);
+        {
+            std::lock_guard lock(mutex_);
+            progress_.pass = pass;
+        }
+        const double t0 = now_seconds();
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+                              [&](const tbb::blocked_range<std::size_t>& range) {
+                                  const ScopedFlushDenormals flush;
+                                  for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                                      if (cancel_requested_.load(std::memory_order_relaxed)) return;
+                                      {
+                                          std::lock_guard tile_lock(tile_mutexes_[i]);
+                                          body(tiles[i], counters.local());
+                                          tile_versions_[i].store(++version_counter_, std::memory_order_release);
+                                      }
+                                      tiles_done_.fetch_add(1, std::memory_order_relaxed);
+                                  }
+                              });
+        });
+        std::lock_guard lock(mutex_);
+        stats_.stages.push_back({name, now_seconds() - t0, false});
+    };
+
+    int pass = 0;
+    if (progressive_)
+        run_pass("preview", pass++, [&](const Tile& tile, RayCounters& c) {
+            render_coarse_tile(context, tile, preview_block_, image_, c);
+        });
+    if (!cancel_requested_)
+        run_pass("first samples", pass++, [&](const Tile& tile, RayCounters& c) {
+            render_first_pass_tile(context, tile, image_, c);
+        });
+    if (antialias && !cancel_requested_) {
+        first_pass_ = image_;
+        run_pass("anti-aliasing", pass++, [&](const Tile& tile, RayCounters& c) {
+            render_antialiasing_tile(context, tile, first_pass_, image_, c);
+        });
+    }
+    RayCounters total;
+    for (const RayCounters& c : counters) total += c;
+    std::lock_guard lock(mutex_);
+    stats_.rays = total;
+    stats_.threads = threads;
+    ++counters_.renders;
+}
+
+void RenderSession::cancel() { cancel_requested_ = true; }
+
+bool RenderSession::pick(const Ray& ray, glm::vec3& point) const {
+    std::shared_ptr<const RenderScene> scene;
+    {
+        std::lock_guard lock(mutex_);
+        scene = scene_;
+    }
+    SurfaceHit hit;
+    if (!scene || !scene->intersect(ray, hit)) return false;
+    point = hit.position;
+    return true;
+}
+
+std::vector<LightProjectionMap> RenderSession::projection_maps() const {
+    std::lock_guard lock(mutex_);
+    std::vector<LightProjectionMap> maps;
+    if (!caustics_) return maps;
+    for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
+        if (!caustics_->projection_maps[l].empty())
+            maps.push_back({caustics_->projection_maps[l], caustics_->light_positions[l], static_cast<int>(l)});
+    return maps;
+}
+
+std::size_t RenderSession::fetch_tiles(Image& out, std::vector<std::uint64_t>& seen) const {
+    if (out.width != image_.width || out.height != image_.height) {
+        out = Image(image_.width, image_.height);
+        seen.assign(tiles_.size(), 0);
+    }
+    seen.resize(tiles_.size(), 0);
+    std::size_t copied = 0;
+    for (std::size_t i = 0; i < tiles_.size(); ++i) {
+        if (tile_versions_[i].load(std::memory_order_acquire) == seen[i]) continue;
+        std::unique_lock lock(tile_mutexes_[i], std::try_to_lock);
+        if (!lock.owns_lock()) continue;  // being rendered: next time
+        const Tile& t = tiles_[i];
+        for (int y = t.y0; y < t.y1; ++y)
+            std::copy(&image_.at(t.x0, y), &image_.at(t.x0, y) + (t.x1 - t.x0), &out.at(t.x0, y));
+        seen[i] = tile_versions_[i].load(std::memory_order_relaxed);
+        ++copied;
+    }
+    return copied;
+}
+
+bool RenderSession::wait() {
+    if (worker_.joinable()) worker_.join();
+    if (error_) std::rethrow_exception(error_);
+    std::lock_guard lock(mutex_);
+    return progress_.finished;
+}
+
+SessionProgress RenderSession::progress() const {
+    std::lock_guard lock(mutex_);
+    SessionProgress p = progress_;
+    p.tiles_done = tiles_done_.load(std::memory_order_relaxed);
+    if (p.running) p.elapsed_seconds = now_seconds() - start_time_;
+    return p;
+}
+
+RenderStats RenderSession::stats() const {
+    std::lock_guard lock(mutex_);
+    return stats_;
+}
+
+std::vector<std::string> RenderSession::warnings() const {
+    std::lock_guard lock(mutex_);
+    return warnings_;
+}
+
+RenderSession::StageCounters RenderSession::stage_counters() const {
+    std::lock_guard lock(mutex_);
+    return counters_;
+}
+
+}  // namespace caustica

@@ -1,0 +1,164 @@
+// A render session: the lifecycle every front end drives (STYLE.md 3 and 4).
+//   set_job -> prepare (build what is stale) -> start (background) -> progress() -> cancel -> wait
+// Stages are cached by what they depend on: the BVH by the geometry, the image by everything.
+// The batch command runs a session to completion; the preview app drives the same object.
+#pragma once
+
+#include "core/render/image.h"
+#include "core/render/render_stats.h"
+#include "core/photons/projection_map.h"
+#include "core/geometry/ray.h"
+#include "core/scene/scene_desc.h"
+#include "core/render/tile_renderer.h"
+
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace caustica {
+
+class RenderScene;
+class TextureSet;
+struct CausticStage;
+
+/// A light's projection map and where the light is, for overlays.
+struct LightProjectionMap {
+    ProjectionMap map;
+    glm::vec3 light_position;
+    int light_index;  ///< position in the job's light list
+};
+
+/// A consistent view of how far the current render is.
+struct SessionProgress {
+    std::uint64_t generation = 0;  ///< increments with every start()
+    int pass = 0;                  ///< 0 = first samples, 1 = anti-aliasing
+    int passes = 1;
+    std::size_t tiles_done = 0, tiles_total = 0;  ///< over all passes
+    double elapsed_seconds = 0.0;
+    bool running = false;
+    bool finished = false;   ///< completed every pass
+    bool cancelled = false;
+    std::string stage;       ///< what is being done now
+};
+
+/// Tile edge length in pixels.
+inline constexpr int tile_size = 16;
+/// Default block edge of the coarse preview pass (divides tile_size).
+inline constexpr int preview_block = 4;
+
+class RenderSession {
+public:
+    RenderSession();
+    ~RenderSession();
+    RenderSession(const RenderSession&) = delete;
+    RenderSession& operator=(const RenderSession&) = delete;
+
+    /// Sets what to render. Cheap: marks stale only the stages whose inputs changed.
+    /// Cancels and waits for a render in progress.
+    void set_job(const RenderJob& job);
+
+    /// Builds the stale stages synchronously (flattening, BVH). Throws InputError on scene errors.
+    void prepare();
+
+    /// Starts rendering on the background thread pool (preparing first if needed); returns at once.
+    void start();
+
+    /// Asks the running render to stop; tiles not yet started are dropped. Returns at once.
+    void cancel();
+
+    /// Waits for the background render. Returns true if it completed, false if cancelled.
+    /// Rethrows an error raised while preparing or rendering.
+    bool wait();
+
+    /// Thread-safe snapshot of the progress.
+    SessionProgress progress() const;
+
+    /// The image; complete once wait() returned true. Tiles may be mid-render while running.
+    const Image& image() const { return image_; }
+
+    /// Copies into `out` the tiles published since the versions in `seen` (one per tile, updated),
+    /// resizing `out` when the image size changed. Never waits for a tile being rendered. Call it
+    /// from the thread that calls start(). Returns how many tiles were copied.
+    std::size_t fetch_tiles(Image& out, std::vector<std::uint64_t>& seen) const;
+
+    /// The first surface point along a ray in the last built scene (thread-safe; for picking).
+    bool pick(const Ray& ray, glm::vec3& point) const;
+
+    /// Copies of the projection maps of the last photon pass, with their lights (published as
+    /// soon as the pass is done; empty when no map was built). Thread-safe.
+    std::vector<LightProjectionMap> projection_maps() const;
+
+    /// Renders a coarse preview pass (one sample per `block` x `block` square; block divides
+    /// tile_size) before the full passes.
+    void set_progressive(bool on, int block = preview_block) {
+        progressive_ = on;
+        preview_block_ = block > 0 && tile_size % block == 0 ? block : preview_block;
+    }
+
+    /// The tiles of the current image.
+    const std::vector<Tile>& tiles() const { return tiles_; }
+
+    /// Statistics of the last completed (or cancelled) render.
+    RenderStats stats() const;
+
+    /// Warnings found while preparing (e.g. nodes without material).
+    std::vector<std::string> warnings() const;
+
+    /// How many times each stage has actually been computed (for tests of caching).
+    struct StageCounters {
+        int scene_builds = 0;
+        int photon_passes = 0;
+        int renders = 0;
+    };
+    StageCounters stage_counters() const;
+
+private:
+    void run();                 // the background thread's body
+    void prepare_scene();       // flattening, BVH, textures
+    void prepare_caustics();    // projection maps, photons, k-d tree
+    void publish_caustic_stats();  // under mutex_
+    void render_passes(tbb::task_arena& arena, int threads);  // both image passes
+    void set_stage(const char* name);
+
+    RenderJob job_;
+    std::uint64_t geometry_key_ = 0;        // fingerprint of what the BVH depends on
+    std::uint64_t built_geometry_key_ = 0;
+    std::uint64_t caustic_key_ = 0;         // fingerprint of what the photon map depends on, 0 = none
+    std::unique_ptr<CausticStage> caustics_;
+    std::shared_ptr<const RenderScene> scene_;  // replaced under mutex_ (pick reads it)
+    std::unique_ptr<TextureSet> textures_;
+    std::vector<std::string> warnings_;
+
+    Image image_, first_pass_;
+    std::vector<Tile> tiles_;
+    std::unique_ptr<std::mutex[]> tile_mutexes_;
+    std::unique_ptr<std::atomic<std::uint64_t>[]> tile_versions_;
+    std::atomic<std::uint64_t> version_counter_{0};
+    bool progressive_ = false;
+    int preview_block_ = preview_block;
+    std::thread worker_;
+    std::atomic<bool> cancel_requested_{false};
+    std::atomic<bool> running_{false};
+    std::exception_ptr error_;
+
+    mutable std::mutex mutex_;  // guards the fields below
+    SessionProgress progress_;
+    RenderStats stats_;
+    StageCounters counters_;
+    std::atomic<std::size_t> tiles_done_{0};
+    std::uint64_t generation_ = 0;
+    double start_time_ = 0.0;
+};
+
+/// Fingerprint of everything the BVH and materials depend on (not the camera, lights or options
+/// other than the convention).
+std::uint64_t geometry_fingerprint(const RenderJob& job);
+
+}  // namespace caustica

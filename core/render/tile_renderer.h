@@ -1,0 +1,45 @@
+// The per-tile work of the two image passes: first samples (packets of primary rays) and
+// adaptive anti-aliasing of pixels that differ from their neighbours.
+#pragma once
+
+#include "core/scene/camera.h"
+#include "core/render/image.h"
+#include "core/integrators/integrator.h"
+
+#include <cstdint>
+
+namespace caustica {
+
+/// A rectangle of pixels [x0, x1) x [y0, y1).
+struct Tile {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+/// Splits an image into tiles of `size` pixels, row by row.
+std::vector<Tile> make_tiles(int width, int height, int size);
+
+/// Inputs shared by every tile of one render.
+struct TileContext {
+    const Integrator* integrator = nullptr;
+    const Camera* camera = nullptr;
+    std::uint64_t seed = 0;
+    int aa_grid = 3;
+    float aa_threshold = 0.5f;
+    bool draw_aa = false;
+};
+
+/// One sample per `block` x `block` square (at its centre), filling the whole square: a fast preview.
+void render_coarse_tile(const TileContext& context, const Tile& tile, int block, Image& out, RayCounters& counters);
+
+/// One sample through each pixel centre, 8 pixels per packet.
+void render_first_pass_tile(const TileContext& context, const Tile& tile, Image& out, RayCounters& counters);
+
+/// Whether pixel (x, y) differs from a neighbour by more than the threshold (sum of |RGB|
+/// differences of the clamped colours).
+bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold);
+
+/// Replaces pixels that need it by the mean of an N x N jittered grid of samples.
+void render_antialiasing_tile(const TileContext& context, const Tile& tile, const Image& first_pass, Image& out,
+                              RayCounters& counters);
+
+}  // namespace caustica

@@ -1,0 +1,46 @@
+#include "core/scene/camera.h"
+
+#include <cmath>
+
+namespace caustica {
+
+namespace {
+
+/// `v` at unit length, scaled down first so that a huge or tiny vector normalises exactly.
+glm::dvec3 unit(const glm::dvec3& v) {
+    const double m = std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+    return m > 0.0 ? glm::normalize(v / m) : v;
+}
+
+}  // namespace
+
+Camera::Camera(const CameraDesc& desc, int width, int height) : width_(width), height_(height) {
+    const glm::dvec3 forward = unit(desc.view);
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, unit(desc.up)));
+    const glm::dvec3 up = glm::cross(right, forward);
+    eye_ = glm::vec3(desc.eye);
+    forward_ = glm::vec3(forward);
+    right_ = glm::vec3(right);
+    up_ = glm::vec3(up);
+    const double half_height = std::tan(glm::radians(desc.fovy_degrees) * 0.5);
+    half_height_ = static_cast<float>(half_height);
+    half_width_ = static_cast<float>(half_height * width / height);
+}
+
+Ray Camera::generate(float x, float y) const {
+    const float sx = (2.0f * x / static_cast<float>(width_) - 1.0f) * half_width_;
+    const float sy = (1.0f - 2.0f * y / static_cast<float>(height_)) * half_height_;
+    return Ray{eye_, glm::normalize(forward_ + sx * right_ + sy * up_), 0.0f, ray_infinity};
+}
+
+bool Camera::project(const glm::vec3& world, glm::vec2& pixel) const {
+    const glm::vec3 v = world - eye_;
+    const float depth = glm::dot(v, forward_);
+    if (depth <= 0.0f) return false;
+    const float sx = glm::dot(v, right_) / depth / half_width_;
+    const float sy = glm::dot(v, up_) / depth / half_height_;
+    pixel = {0.5f * (sx + 1.0f) * static_cast<float>(width_), 0.5f * (1.0f - sy) * static_cast<float>(height_)};
+    return true;
+}
+
+}  // namespace caustica

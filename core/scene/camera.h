@@ -1,0 +1,26 @@
+// The course's pinhole camera: eye, view direction, up vector, vertical field of view.
+#pragma once
+
+#include "core/geometry/ray.h"
+#include "core/scene/scene_desc.h"
+
+namespace caustica {
+
+/// Generates primary rays through pixel positions (x right, y down, pixel centres at +0.5).
+class Camera {
+public:
+    Camera(const CameraDesc& desc, int width, int height);
+
+    /// The ray through image position (x, y) in pixels.
+    Ray generate(float x, float y) const;
+
+    /// The image position of a world point, or false when it is behind the eye.
+    bool project(const glm::vec3& world, glm::vec2& pixel) const;
+
+private:
+    glm::vec3 eye_, right_, up_, forward_;
+    float half_width_, half_height_;  // tan-scaled image plane half extents at distance 1
+    int width_, height_;
+};
+
+}  // namespace caustica

@@ -1,0 +1,395 @@
+#include "core/scene/options.h"
+
+#include "core/scene/source_location.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+namespace caustica {
+namespace {
+
+/// One row of the option table.
+struct OptionSpec {
+    std::string long_name;   ///< without "--"
+    char short_name;         ///< 0 when none
+    const char* value_name;  ///< nullptr for a flag
+    const char* group;
+    const char* help;
+    std::function<void(Options&, const std::string&)> set;   ///< value is "" for flags
+    std::function<std::string(const Options&)> get;         ///< current value as text
+    bool refused = false;    ///< known but not available (the --gi family)
+};
+
+std::string format_double(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+long long parse_integer(const std::string& name, const std::string& text, long long lo, long long hi,
+                        const char* why = nullptr) {
+    long long v = 0;
+    // Accept plain integers and exact scientific forms like 1e6.
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size()) {
+        double d = 0.0;
+        auto [dend, dec] = std::from_chars(text.data(), text.data() + text.size(), d);
+        if (dec != std::errc() || dend != text.data() + text.size() || !std::isfinite(d) ||
+            d != std::floor(d) || std::fabs(d) > 9.0e18)
+            throw InputError("--" + name + ": expected a whole number, got '" + text + "'");
+        v = static_cast<long long>(d);
+    }
+    if (v < lo || v > hi)
+        throw InputError("--" + name + ": " + text + " is out of range [" + std::to_string(lo) + ", " +
+                         std::to_string(hi) + "]" + (why ? std::string(": ") + why : std::string()));
+    return v;
+}
+
+double parse_real(const std::string& name, const std::string& text, double lo, double hi, bool lo_open) {
+    double v = 0.0;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size())
+        throw InputError("--" + name + ": expected a number, got '" + text + "'");
+    if (!std::isfinite(v)) throw InputError("--" + name + ": " + text + " is not a finite number");
+    if (v < lo || v > hi || (lo_open && v == lo))
+        throw InputError("--" + name + ": " + text + " is out of range " + (lo_open ? "(" : "[") +
+                         format_double(lo) + ", " + format_double(hi) + "]");
+    return v;
+}
+
+OptionSpec flag(std::string name, char short_name, const char* group, const char* help, bool Options::*member) {
+    return {std::move(name), short_name, nullptr, group, help,
+            [member](Options& o, const std::string&) { o.*member = true; },
+            [member](const Options& o) { return std::string(o.*member ? "on" : "off"); }};
+}
+
+/// An integer option in [lo, hi]; `why` (optional) says in the range error what the bound protects.
+template <typename Int>
+OptionSpec integer(std::string name, char short_name, const char* group, const char* help, Int Options::*member,
+                   long long lo, long long hi, const char* why = nullptr) {
+    std::string n = name;
+    return {std::move(name), short_name, "N", group, help,
+            [member, n, lo, hi, why](Options& o, const std::string& v) {
+                o.*member = static_cast<Int>(parse_integer(n, v, lo, hi, why));
+            },
+            [member](const Options& o) { return std::to_string(o.*member); }};
+}
+
+OptionSpec real(std::string name, const char* group, const char* help, double Options::*member, double lo, double hi,
+                bool lo_open = false) {
+    std::string n = name;
+    return {std::move(name), 0, "D", group, help,
+            [member, n, lo, hi, lo_open](Options& o, const std::string& v) {
+                o.*member = parse_real(n, v, lo, hi, lo_open);
+            },
+            [member](const Options& o) { return format_double(o.*member); }};
+}
+
+OptionSpec resolution(std::string name, const char* help, int size) {
+    return {std::move(name), 0, nullptr, "output", help,
+            [size](Options& o, const std::string&) { o.resolution_override = size; },
+            [size](const Options& o) { return std::string(o.resolution_override == size ? "on" : "off"); }};
+}
+
+OptionSpec refused(std::string name, const char* value_name, const char* help) {
+    std::string n = name;
+    OptionSpec s{std::move(name), 0, value_name, "global illumination (not available yet)", help,
+                 [n](Options&, const std::string&) {
+                     throw InputError("--" + n +
+                                      ": the global-illumination photon map is not implemented yet; "
+                                      "remove this option");
+                 },
+                 [](const Options&) { return std::string("off"); }};
+    s.refused = true;
+    return s;
+}
+
+/// A --quality preset: option tokens chosen from bench/trade's error/time curves (docs/ACCURACY.md).
+/// The gather distance returns to its default, 0.15 x unit distance, so it follows the scene's unit.
+struct QualityPreset {
+    const char* name;
+    const char* tokens;
+};
+
+constexpr QualityPreset quality_presets[] = {
+    {"draft", "--caustic-num-photons 1000000 --caustic-num-neighbours 25 --aa-grid 1 --aa-threshold 0.5 "
+              "--shadow-grid 2"},
+    {"preview", "--caustic-num-photons 10000000 --caustic-num-neighbours 25 --aa-grid 2 --aa-threshold 0.5 "
+                "--shadow-grid 3"},
+    {"final", "--caustic-num-photons 30000000 --caustic-num-neighbours 50 --aa-grid 4 --aa-threshold 0.25 "
+              "--shadow-grid 6"},
+};
+
+/// Expands a preset in place: its tokens are applied where --quality stands, so later options win.
+void apply_quality_preset(Options& o, const std::string& name) {
+    for (const QualityPreset& preset : quality_presets)
+        if (name == preset.name) {
+            o.caustic_max_dist = -1.0;
+            apply_option_tokens(o, split_option_string(preset.tokens));
+            return;
+        }
+    throw InputError("--quality: expected draft, preview or final, got '" + name + "'");
+}
+
+/// The preset whose every value `o` has, or "none".
+std::string matching_quality_preset(const Options& o) {
+    for (const QualityPreset& preset : quality_presets) {
+        Options expanded = o;
+        apply_quality_preset(expanded, preset.name);
+        if (expanded.caustic_num_photons == o.caustic_num_photons &&
+            expanded.caustic_num_neighbours == o.caustic_num_neighbours &&
+            expanded.caustic_max_dist == o.caustic_max_dist && expanded.aa_grid == o.aa_grid &&
+            expanded.aa_threshold == o.aa_threshold && expanded.shadow_grid == o.shadow_grid)
+            return preset.name;
+    }
+    return "none";
+}
+
+const std::vector<OptionSpec>& option_table() {
+    constexpr double huge = 1e30;
+    static const std::vector<OptionSpec> table = {
+        flag("a4", 0, "conventions", "course (CS488 A4) conventions: transforms in call order, unit cube [0,1]^3",
+             &Options::a4),
+        flag("timing", 't', "reporting", "print per-stage times", &Options::timing),
+        flag("silent", 's', "reporting", "no progress bar or messages, only errors", &Options::silent),
+        flag("stats", 'S', "reporting", "print statistics (rays by kind, intersections, stage times)", &Options::stats),
+        flag("verbose", 'v', "reporting", "print what is being done", &Options::verbose),
+        flag("debug", 'd', "reporting", "print debugging details", &Options::debug),
+        {"quality", 0, "draft|preview|final", "sampling",
+         "preset of photons, N, max distance, anti-aliasing, shadow grid (docs/ACCURACY.md); later options win",
+         apply_quality_preset, matching_quality_preset},
+        flag("disable-aa", 0, "sampling", "one sample per pixel, no adaptive anti-aliasing", &Options::disable_aa),
+        integer("aa-grid", 0, "sampling", "adaptive anti-aliasing: N x N samples in an edge pixel", &Options::aa_grid, 1,
+                16),
+        real("aa-threshold", "sampling", "colour difference to a neighbour that triggers anti-aliasing",
+             &Options::aa_threshold, 0.0, huge),
+        flag("draw-aa", 0, "debug views", "show the anti-aliased pixels in red", &Options::draw_aa),
+        flag("reproducible", 0, "sampling", "fixed random streams: identical output for any thread count",
+             &Options::reproducible),
+        integer("seed", 0, "sampling", "base of the random streams", &Options::seed, 0,
+                std::numeric_limits<long long>::max()),
+        integer("threads", 'j', "performance", "worker threads (0 = all cores)", &Options::threads, 0, 1024),
+        flag("disable-bv", 0, "performance", "no bounding volumes around analytic primitives: each ray tests them all (for comparison)", &Options::disable_bv),
+        flag("disable-csg-bb", 0, "performance", "no bounding boxes around CSG subtrees (for comparison)",
+             &Options::disable_csg_bb),
+        integer("max-depth", 0, "optics", "recursion limit for reflected and refracted rays", &Options::max_depth, 0,
+                64),
+        real("min-weight", "optics", "end a ray path when its weight falls below this", &Options::min_weight, 0.0, 1.0),
+        flag("no-soft-shadows", 0, "lights", "treat spherical lights as points", &Options::no_soft_shadows),
+        integer("shadow-grid", 0, "lights", "soft shadows: N x N samples on a spherical light", &Options::shadow_grid, 1,
+                64),
+        flag("rays", 0, "output", "sky background instead of the miss colour", &Options::rays),
+        flag("srgb", 0, "output", "encode sRGB in the PNG (default: clamped linear, as the seed)", &Options::srgb),
+        resolution("minres", "render at 100 x 100", 100),
+        resolution("lores", "render at 256 x 256", 256),
+        resolution("midres", "render at 512 x 512", 512),
+        resolution("hires", "render at 1024 x 1024", 1024),
+        real("script-timeout", "scene", "seconds the scene script may run (0 = no limit)", &Options::script_timeout,
+             0.0, 1e7),
+        integer("script-memory", 0, "scene",
+                "MiB the scene script may use: Lua heap, scene data, meshes and decoded images (0 = no limit)",
+                &Options::script_memory_mib, 0, 1 << 20),
+        integer("caustic-num-photons", 0, "caustics", "photons shot per light for the caustic map (0 = off)",
+                &Options::caustic_num_photons, 0, 100'000'000'000LL),
+        integer("caustic-num-neighbours", 0, "caustics", "photons in each radiance estimate",
+                &Options::caustic_num_neighbours, 1, 1'000'000,
+                "every render thread keeps a search buffer of N photons (8 bytes each), and an estimate "
+                "over more than a million photons is a blur"),
+        integer("caustic-pm-gran", 0, "caustics", "projection-map resolution (cells per half turn)",
+                &Options::caustic_pm_gran, 2, 4096,
+                "each light's map holds 2 G^2 cells (one byte and one ray each: 33.5 million at 4096)"),
+        real("caustic-max-dist", "caustics", "maximum gather distance (default 0.15 x unit distance)",
+             &Options::caustic_max_dist, 0.0, huge, true),
+        {"projection-map", 0, "MODE", "caustics", "auto|on|off: use light projection maps when shooting photons",
+         [](Options& o, const std::string& v) {
+             if (v == "auto") o.projection_map = ProjectionMapMode::automatic;
+             else if (v == "on") o.projection_map = ProjectionMapMode::on;
+             else if (v == "off") o.projection_map = ProjectionMapMode::off;
+             else throw InputError("--projection-map: expected auto, on or off, got '" + v + "'");
+         },
+         [](const Options& o) {
+             return std::string(o.projection_map == ProjectionMapMode::on    ? "on"
+                                : o.projection_map == ProjectionMapMode::off ? "off"
+                                                                             : "auto");
+         }},
+        {"caustic-filter", 0, "none|cone", "caustics", "radiance-estimate filter: the seed's disc average, or Jensen's cone",
+         [](Options& o, const std::string& v) {
+             if (v == "none") o.caustic_cone_filter = false;
+             else if (v == "cone") o.caustic_cone_filter = true;
+             else throw InputError("--caustic-filter: expected none or cone, got '" + v + "'");
+         },
+         [](const Options& o) { return std::string(o.caustic_cone_filter ? "cone" : "none"); }},
+        {"photon-emission", 0, "ld|random", "caustics", "photon directions: low-discrepancy (Hammersley) or random",
+         [](Options& o, const std::string& v) {
+             if (v == "ld") o.photon_random_emission = false;
+             else if (v == "random") o.photon_random_emission = true;
+             else throw InputError("--photon-emission: expected ld or random, got '" + v + "'");
+         },
+         [](const Options& o) { return std::string(o.photon_random_emission ? "random" : "ld"); }},
+        real("unit-distance", "caustics", "scene length unit for photon energies", &Options::unit_distance, 0.0, huge,
+             true),
+        real("energy-fudge", "caustics", "scale factor on photon energy", &Options::energy_fudge, 0.0, huge),
+        flag("draw-caustic-map", 0, "debug views", "show the stored caustic photons as dots",
+             &Options::draw_caustic_map),
+        flag("draw-caustic-prm", 0, "debug views", "show projection-map coverage on diffuse surfaces",
+             &Options::draw_caustic_prm),
+        flag("draw-caustics-only", 0, "debug views", "show only the caustic radiance", &Options::draw_caustics_only),
+        flag("no-caustic-map", 0, "caustics", "no caustic photon map at all", &Options::no_caustic_map),
+        refused("gi", nullptr, "global illumination photon map"),
+        refused("draw-gi-map", nullptr, "show the global-illumination photons"),
+        refused("draw-gi-only", nullptr, "show only global illumination"),
+        refused("gi-num-photons", "N", "photons for the global-illumination map"),
+        refused("gi-num-neighbours", "N", "photons in each global-illumination estimate"),
+    };
+    return table;
+}
+
+const OptionSpec* find_long(std::string_view name) {
+    for (const auto& spec : option_table())
+        if (spec.long_name == name) return &spec;
+    return nullptr;
+}
+
+const OptionSpec* find_short(char c) {
+    for (const auto& spec : option_table())
+        if (spec.short_name == c) return &spec;
+    return nullptr;
+}
+
+std::string closest_option(std::string_view name) {
+    const OptionSpec* best = nullptr;
+    int best_distance = std::numeric_limits<int>::max();
+    for (const auto& spec : option_table()) {
+        int d = edit_distance(name, spec.long_name);
+        if (d < best_distance) best_distance = d, best = &spec;
+    }
+    if (!best || best_distance > std::max<int>(3, static_cast<int>(name.size()) / 2)) return {};
+    return "--" + best->long_name;
+}
+
+[[noreturn]] void unknown_option(const std::string& token, std::string_view bare) {
+    std::string message = "unknown option '" + token + "'";
+    std::string suggestion = closest_option(bare);
+    if (!suggestion.empty()) message += " (did you mean " + suggestion + "?)";
+    throw InputError(message);
+}
+
+}  // namespace
+
+int edit_distance(std::string_view a, std::string_view b) {
+    std::vector<int> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);
+    for (size_t i = 1; i <= a.size(); ++i) {
+        int diagonal = row[0];
+        row[0] = static_cast<int>(i);
+        for (size_t j = 1; j <= b.size(); ++j) {
+            int above = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+void apply_option_tokens(Options& options, const std::vector<std::string>& tokens,
+                         std::vector<std::string>* positional) {
+    for (size_t i = 0; i < tokens.size(); ++i) {
+        const std::string& token = tokens[i];
+        const OptionSpec* spec = nullptr;
+        std::string value;
+        bool has_inline_value = false;
+        if (token.rfind("--", 0) == 0 && token.size() > 2) {
+            std::string name = token.substr(2);
+            if (auto eq = name.find('='); eq != std::string::npos) {
+                value = name.substr(eq + 1);
+                name = name.substr(0, eq);
+                has_inline_value = true;
+            }
+            spec = find_long(name);
+            if (!spec) unknown_option(token, name);
+        } else if (token.size() == 2 && token[0] == '-' && token[1] != '-') {
+            spec = find_short(token[1]);
+            if (!spec) unknown_option(token, token.substr(1));
+        } else {
+            if (!positional) throw InputError("unexpected argument '" + token + "' (options start with --)");
+            positional->push_back(token);
+            continue;
+        }
+        if (spec->value_name) {
+            if (!has_inline_value) {
+                if (i + 1 >= tokens.size())
+                    throw InputError("--" + spec->long_name + ": expects a value (" + spec->value_name + ")");
+                value = tokens[++i];
+            }
+        } else if (has_inline_value) {
+            throw InputError("--" + spec->long_name + ": takes no value");
+        }
+        spec->set(options, value);
+    }
+}
+
+std::vector<std::string> split_option_string(std::string_view text) {
+    std::vector<std::string> tokens;
+    std::string current;
+    bool in_token = false;
+    char quote = 0;
+    for (char c : text) {
+        if (quote) {
+            if (c == quote) quote = 0;
+            else current += c;
+        } else if (c == '"' || c == '\'') {
+            quote = c;
+            in_token = true;
+        } else if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+            if (in_token) tokens.push_back(current), current.clear(), in_token = false;
+        } else {
+            current += c;
+            in_token = true;
+        }
+    }
+    if (quote) throw InputError("unterminated quote in option string");
+    if (in_token) tokens.push_back(current);
+    return tokens;
+}
+
+std::string options_help() {
+    std::ostringstream out;
+    std::vector<std::string> groups;
+    for (const auto& spec : option_table())
+        if (std::find(groups.begin(), groups.end(), spec.group) == groups.end()) groups.push_back(spec.group);
+    const Options defaults;
+    for (const auto& group : groups) {
+        out << "\n" << group << ":\n";
+        for (const auto& spec : option_table()) {
+            if (spec.group != group) continue;
+            std::string names = spec.short_name ? std::string("-") + spec.short_name + ", " : "    ";
+            names += "--" + spec.long_name;
+            if (spec.value_name) names += std::string(" ") + spec.value_name;
+            out << "  " << names;
+            for (size_t pad = names.size(); pad < 30; ++pad) out << ' ';
+            out << ' ' << spec.help;
+            if (spec.value_name && !spec.refused) out << " [" << spec.get(defaults) << "]";
+            out << '\n';
+        }
+    }
+    return out.str();
+}
+
+std::string describe_non_default(const Options& options) {
+    const Options defaults;
+    std::string text;
+    for (const auto& spec : option_table()) {
+        std::string value = spec.get(options);
+        if (value == spec.get(defaults)) continue;
+        if (!text.empty()) text += ' ';
+        text += "--" + spec.long_name;
+        if (spec.value_name) text += " " + value;
+    }
+    return text;
+}
+
+}  // namespace caustica
