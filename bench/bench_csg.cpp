@@ -3,7 +3,7 @@
 // 256 x 256 on one thread with the boxes of CSG subtrees tested (1) and not (0).
 //   build/bench_csg --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "core/scene/camera.h"
-#include "core/integrators/integrator.h"
+#include "core/integrators/progressive.h"
 #include "core/geometry/render_scene.h"
 #include "core/render/render_session.h"
 #include "core/scene/scene_flatten.h"
@@ -123,7 +123,7 @@ void BM_CsgPlate(benchmark::State& state) {
         setup.lights.push_back({glm::vec3(d.position), glm::vec3(d.colour), glm::vec3(d.falloff), 0.0f});
     }
     setup.ambient = glm::vec3(job.ambient);
-    const Integrator integrator(setup);
+    const ProgressiveIntegrator integrator(setup);
     const Camera camera(job.camera, job.width, job.height);
     TileContext context;
     context.integrator = &integrator;

@@ -2,7 +2,8 @@
 // Photons are clustered on a floor as a real caustic map is: a focused spot, a cardioid and a thin
 // background. Queries cover the caustic region on a 256 x 256 grid, in tile (Morton) order or in
 // random order. nanoflann gets its best configuration: leaf size 10 and a radius-bounded max-heap
-// result set (the same bound and heap our tree uses).
+// result set (the same bound and heap our tree uses). The always_k pairs compare the classic
+// search (always k photons, pruned at 0.15 once k are held) with nanoflann's unbounded knnSearch.
 //   build/bench_photon_knn --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "core/photons/photon_kdtree.h"
 
@@ -22,6 +23,7 @@ using caustica::Neighbour;
 using caustica::PhotonKdTree;
 
 constexpr float max_distance = 0.1f;
+constexpr float classic_prune_distance = 0.15f;  // the classic search's prune distance, 0.15 d_u
 
 std::vector<glm::vec3> caustic_photons(std::size_t n) {
     std::mt19937 rng(42);
@@ -164,6 +166,33 @@ void knn_nanoflann(benchmark::State& state, std::size_t n, std::uint32_t k, bool
     state.counters["found_per_query"] = double(found) / double(state.iterations() * q.size());
 }
 
+/// The classic search (SEED_BEHAVIOUR.md B5): always k photons, pruned at 0.15 once k are held.
+void always_k_caustica(benchmark::State& state, std::size_t n, std::uint32_t k, bool tile_order) {
+    const PhotonKdTree& tree = our_tree(n);
+    const auto& q = queries(tile_order);
+    std::vector<Neighbour> heap(k);
+    std::size_t found = 0;
+    for (auto _ : state)
+        for (const glm::vec3& p : q) found += tree.nearest_always(p, k, classic_prune_distance, heap.data());
+    benchmark::DoNotOptimize(found);
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(q.size()));
+    state.counters["found_per_query"] = double(found) / double(state.iterations() * q.size());
+}
+
+/// nanoflann's own k-nearest search (unbounded: always k), the closest standard counterpart.
+void always_k_nanoflann(benchmark::State& state, std::size_t n, std::uint32_t k, bool tile_order) {
+    const NanoIndex& index = nano_tree(n);
+    const auto& q = queries(tile_order);
+    std::vector<std::uint32_t> indices(k);
+    std::vector<float> distances(k);
+    std::size_t found = 0;
+    for (auto _ : state)
+        for (const glm::vec3& p : q) found += index.tree.knnSearch(&p.x, k, indices.data(), distances.data());
+    benchmark::DoNotOptimize(found);
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(q.size()));
+    state.counters["found_per_query"] = double(found) / double(state.iterations() * q.size());
+}
+
 void build_caustica(benchmark::State& state, std::size_t n) {
     for (auto _ : state) {
         PhotonKdTree tree(photons(n));
@@ -192,6 +221,15 @@ const int registered = [] {
                 benchmark::RegisterBenchmark(("knn/caustica" + suffix).c_str(), knn_caustica, n, k, tile)
                     ->Unit(benchmark::kMillisecond);
                 benchmark::RegisterBenchmark(("knn/nanoflann" + suffix).c_str(), knn_nanoflann, n, k, tile)
+                    ->Unit(benchmark::kMillisecond);
+            }
+        for (std::uint32_t k : {5u, 100u})
+            for (bool tile : {true, false}) {
+                const std::string suffix =
+                    "/photons:" + size + "/k:" + std::to_string(k) + "/order:" + (tile ? "tile" : "random");
+                benchmark::RegisterBenchmark(("always_k/caustica" + suffix).c_str(), always_k_caustica, n, k, tile)
+                    ->Unit(benchmark::kMillisecond);
+                benchmark::RegisterBenchmark(("always_k/nanoflann" + suffix).c_str(), always_k_nanoflann, n, k, tile)
                     ->Unit(benchmark::kMillisecond);
             }
     }

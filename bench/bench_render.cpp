@@ -3,7 +3,7 @@
 // without it, nothing runs and the program says so).
 //   build/bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "core/scene/camera.h"
-#include "core/integrators/integrator.h"
+#include "core/integrators/progressive.h"
 #include "core/lua/scene_loader.h"
 #include "core/geometry/render_scene.h"
 #include "core/render/render_session.h"
@@ -67,7 +67,7 @@ struct ShadingFixture {
 void BM_PrimaryShading(benchmark::State& state, const std::string& scene_name) {
     const RenderJob& job = course_job(scene_name);
     ShadingFixture f(job);
-    const Integrator integrator(f.setup);
+    const ProgressiveIntegrator integrator(f.setup);
     TileContext context;
     context.integrator = &integrator;
     context.camera = f.camera.get();

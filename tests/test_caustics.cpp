@@ -156,11 +156,13 @@ double annulus_mean(const Image& image, const RenderJob& job, double scale) {
 
 TEST(VirtualLight, MirrorCausticMatchesALightAtTheMirroredPosition) {
     JobBuilder reference = virtual_light_scene(true);
+    reference.job.options.integrator = IntegratorKind::progressive;
     const RenderJob reference_job = reference.build();
     const double expected = annulus_mean(caustica::testing::render(reference_job), reference_job, 1.0);
     EXPECT_GT(expected, 0.02);
     for (ProjectionMapMode mode : {ProjectionMapMode::on, ProjectionMapMode::off}) {
         JobBuilder b = virtual_light_scene(false);
+        b.job.options.integrator = IntegratorKind::progressive;  // these tests are of its photon map
         b.job.options.caustic_num_photons = 1'000'000;
         b.job.options.caustic_num_neighbours = 100;
         b.job.options.caustic_max_dist = 0.3;
@@ -180,6 +182,7 @@ TEST(VirtualLight, ScaledSceneWithScaledUnitDistanceGivesTheSameCaustics) {
     int i = 0;
     for (double scale : {1e-3, 1.0, 1e4}) {
         JobBuilder b = virtual_light_scene(false, scale);
+        b.job.options.integrator = IntegratorKind::progressive;  // these tests are of its photon map
         b.job.options.caustic_num_photons = 200'000;
         b.job.options.draw_caustics_only = true;
         const RenderJob job = b.build();
@@ -269,6 +272,7 @@ TEST(Photons, LightWithoutQuadraticFalloffWarnsAndShootsNothing) {
 
 TEST(Photons, LightInsideAGlassSphereStillMakesCaustics) {
     JobBuilder b(16, 16);
+    b.job.options.integrator = IntegratorKind::progressive;  // these tests are of its photon map
     const int floor = b.add(NodeKind::cube, b.material({0.8, 0.8, 0.8}));
     b.translate(floor, {0, -2, 0});
     b.scale(floor, {5, 0.1, 5});
@@ -291,6 +295,7 @@ TEST(Photons, LightInsideAGlassSphereStillMakesCaustics) {
 
 TEST(Photons, SpecularMaterialThatGainsEnergyIsRefusedWithItsLine) {
     JobBuilder b = virtual_light_scene(false);
+    b.job.options.integrator = IntegratorKind::progressive;  // these tests are of its photon map
     b.scene->materials[2].kd = {0.5, 0.5, 0.5};  // the mirror: mean kd 0.5 + mean ks 0.9 > 1
     b.scene->materials[2].where = {"scene.lua", 4};
     b.job.options.caustic_num_photons = 1000;
@@ -332,11 +337,13 @@ TEST(Session, OnlyWhatAChangeInvalidatesIsRedone) {
 
 TEST(Convergence, ErrorFallsAsPhotonsGrow) {
     JobBuilder reference = virtual_light_scene(true);
+    reference.job.options.integrator = IntegratorKind::progressive;
     const RenderJob reference_job = reference.build();
     const Image truth = caustica::testing::render(reference_job);
     double previous = 1e9;
     for (long long photons : {10'000LL, 100'000LL, 1'000'000LL}) {
         JobBuilder b = virtual_light_scene(false);
+        b.job.options.integrator = IntegratorKind::progressive;  // these tests are of its photon map
         b.job.options.caustic_num_photons = photons;
         b.job.options.caustic_num_neighbours = 50;
         b.job.options.draw_caustics_only = true;

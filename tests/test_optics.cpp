@@ -1,6 +1,6 @@
 // Fresnel, Snell and Beer-Lambert against closed forms, and the invariances they imply.
 #include "core/scene/camera.h"
-#include "core/integrators/integrator.h"
+#include "core/integrators/progressive.h"
 #include "core/shading/optics.h"
 #include "core/geometry/render_scene.h"
 #include "core/scene/scene_flatten.h"
@@ -230,7 +230,7 @@ TEST(SoftShadows, PenumbraFractionAndTheHardSwitch) {
     ShadingSetup setup;
     setup.scene = &scene;
     setup.shadow_grid = 8;
-    const Integrator integrator(setup);
+    const ProgressiveIntegrator integrator(setup);
     Light light;
     light.position = {0, 10, 0};
     light.radius = 1.0f;
@@ -245,7 +245,7 @@ TEST(SoftShadows, PenumbraFractionAndTheHardSwitch) {
     EXPECT_EQ(integrator.light_visibility(light, {3, 0, 0}, random, counters), 1.0f);   // fully lit
     EXPECT_EQ(integrator.light_visibility(light, {-3, 0, 0}, random, counters), 0.0f);  // umbra
     setup.soft_shadows = false;  // --no-soft-shadows: the centre decides, exactly on the edge here
-    const Integrator hard(setup);
+    const ProgressiveIntegrator hard(setup);
     const float v = hard.light_visibility(light, {0.01f, 0, 0}, random, counters);
     EXPECT_EQ(v, 1.0f);
 }

@@ -115,31 +115,33 @@ TEST(Cylinder, SideAndCaps) {
 }
 
 TEST(Cone, ApexUpBaseDown) {
+    // Height 1 (SEED_BEHAVIOUR A2): apex at y = 1/2, base radius 1 at y = -1/2, radius 1/2 - y.
+    // (Was apex y = 1, base y = -1, radius (1 - y)/2: the values below changed with the rule.)
     ShapeInterval iv;
-    // Horizontal through y = 0: radius (1 - 0) / 2 = 0.5.
+    // Horizontal through y = 0: radius 1/2 - 0 = 0.5.
     ASSERT_TRUE(intersect_shape_interval(cone, {-5, 0, 0}, {1, 0, 0}, iv));
     EXPECT_NEAR(iv.entry.t, 4.5f, 1e-5f);
     EXPECT_NEAR(iv.exit.t, 5.5f, 1e-5f);
     const glm::vec3 n = glm::normalize(iv.entry.normal);
-    expect_vec_near(n, glm::normalize(glm::vec3(-1, 0.5f, 0)), 1e-5f);  // outward and upward
-    // Down the axis: in at the apex, out through the base.
+    expect_vec_near(n, glm::normalize(glm::vec3(-1, 1, 0)), 1e-5f);  // outward and upward, 45 degrees
+    // Down the axis: in at the apex (y = 1/2), out through the base (y = -1/2).
     ASSERT_TRUE(intersect_shape_interval(cone, {0, 5, 0}, {0, -1, 0}, iv));
-    EXPECT_NEAR(iv.entry.t, 4.0f, 1e-4f);
-    EXPECT_NEAR(iv.exit.t, 6.0f, 1e-5f);
+    EXPECT_NEAR(iv.entry.t, 4.5f, 1e-4f);
+    EXPECT_NEAR(iv.exit.t, 5.5f, 1e-5f);
     EXPECT_EQ(iv.exit.face, 2);
-    // Up from below at x = 0.9: through the base, out where the radius is 0.9 (y = -0.8).
+    // Up from below at x = 0.9: through the base, out where the radius is 0.9 (y = -0.4).
     ASSERT_TRUE(intersect_shape_interval(cone, {0.9f, -5, 0}, {0, 1, 0}, iv));
-    EXPECT_NEAR(iv.entry.t, 4.0f, 1e-5f);
+    EXPECT_NEAR(iv.entry.t, 4.5f, 1e-5f);
     EXPECT_EQ(iv.entry.face, 2);
-    EXPECT_NEAR(iv.exit.t, 4.2f, 1e-4f);
+    EXPECT_NEAR(iv.exit.t, 4.6f, 1e-4f);
     // The upper nappe of the double cone is not part of the solid.
-    EXPECT_FALSE(intersect_shape_interval(cone, {-5, 2, 0}, {1, 0, 0}, iv));
-    EXPECT_FALSE(intersect_shape_interval(cone, {-5, 1.5f, 0}, {1, 0, 0}, iv));
+    EXPECT_FALSE(intersect_shape_interval(cone, {-5, 1, 0}, {1, 0, 0}, iv));
+    EXPECT_FALSE(intersect_shape_interval(cone, {-5, 0.75f, 0}, {1, 0, 0}, iv));
 }
 
 TEST(Cone, RayFromInsideExitsThroughTheSide) {
     ShapeInterval iv;
-    ASSERT_TRUE(intersect_shape_interval(cone, {0, -0.5f, 0}, {1, 0, 0}, iv));
+    ASSERT_TRUE(intersect_shape_interval(cone, {0, -0.25f, 0}, {1, 0, 0}, iv));  // radius 0.75 there
     EXPECT_LT(iv.entry.t, 0.0f);
     EXPECT_NEAR(iv.exit.t, 0.75f, 1e-5f);
 }
@@ -155,6 +157,8 @@ TEST(ShapeUv, ParametersStayInTheUnitSquare) {
             EXPECT_LE(uv.y, 1.0f);
         }
     }
-    EXPECT_NEAR(shape_uv(unit_sphere, {0, 1, 0}, 0).y, 0.0f, 1e-6f);  // north pole at v = 0
-    EXPECT_NEAR(shape_uv(unit_sphere, {0, -1, 0}, 0).y, 1.0f, 1e-6f);
+    // v = (1 + y) / 2 (SEED_BEHAVIOUR A2): the north pole is the image's top row, v = 1 (was 0
+    // when v ran from the top of the image down).
+    EXPECT_NEAR(shape_uv(unit_sphere, {0, 1, 0}, 0).y, 1.0f, 1e-6f);
+    EXPECT_NEAR(shape_uv(unit_sphere, {0, -1, 0}, 0).y, 0.0f, 1e-6f);
 }

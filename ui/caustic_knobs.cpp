@@ -13,6 +13,10 @@ enum Field : std::uint32_t {
     granularity = 1u << 6,
     only = 1u << 7,
     dots = 1u << 8,
+    integrator = 1u << 9,
+    gi = 1u << 10,
+    gi_photons = 1u << 11,
+    gi_neighbours = 1u << 12,
 };
 
 }  // namespace
@@ -28,6 +32,10 @@ CausticKnobs CausticKnobs::from(const Options& o) {
     k.pm_granularity = o.caustic_pm_gran;
     k.photons_only = o.draw_caustics_only;
     k.photon_dots = o.draw_caustic_map;
+    k.integrator = o.integrator;
+    k.gi = o.gi;
+    k.gi_photons = o.gi_num_photons;
+    k.gi_neighbours = o.gi_num_neighbours;
     return k;
 }
 
@@ -41,6 +49,10 @@ void CausticKnobs::apply(Options& o) const {
     o.caustic_pm_gran = pm_granularity;
     o.draw_caustics_only = photons_only;
     o.draw_caustic_map = photon_dots;
+    o.integrator = integrator;
+    o.gi = gi;
+    o.gi_num_photons = gi_photons;
+    o.gi_num_neighbours = gi_neighbours;
 }
 
 void KnobOverrides::record(const CausticKnobs& a, const CausticKnobs& b) {
@@ -53,6 +65,10 @@ void KnobOverrides::record(const CausticKnobs& a, const CausticKnobs& b) {
     if (a.pm_granularity != b.pm_granularity) mask_ |= granularity;
     if (a.photons_only != b.photons_only) mask_ |= only;
     if (a.photon_dots != b.photon_dots) mask_ |= dots;
+    if (a.integrator != b.integrator) mask_ |= integrator;
+    if (a.gi != b.gi) mask_ |= gi;
+    if (a.gi_photons != b.gi_photons) mask_ |= gi_photons;
+    if (a.gi_neighbours != b.gi_neighbours) mask_ |= gi_neighbours;
 }
 
 CausticKnobs KnobOverrides::merge(const CausticKnobs& script, const CausticKnobs& person) const {
@@ -66,6 +82,10 @@ CausticKnobs KnobOverrides::merge(const CausticKnobs& script, const CausticKnobs
     if (mask_ & granularity) k.pm_granularity = person.pm_granularity;
     if (mask_ & only) k.photons_only = person.photons_only;
     if (mask_ & dots) k.photon_dots = person.photon_dots;
+    if (mask_ & integrator) k.integrator = person.integrator;
+    if (mask_ & gi) k.gi = person.gi;
+    if (mask_ & gi_photons) k.gi_photons = person.gi_photons;
+    if (mask_ & gi_neighbours) k.gi_neighbours = person.gi_neighbours;
     return k;
 }
 

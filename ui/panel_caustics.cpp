@@ -51,6 +51,11 @@ void overlay_settings(ViewModel& model, PanelState& state) {
 
 void draw_caustics_section(ViewModel& model, PanelState& state) {
     CausticKnobs k = model.knobs();
+    int integrator = static_cast<int>(k.integrator);
+    if (ImGui::Combo("integrator", &integrator, "classic\0progressive\0"))
+        k.integrator = static_cast<IntegratorKind>(integrator);
+    hint("classic: the original renderer's rules (SEED_BEHAVIOUR.md Part B); progressive: our photon mapper. "
+         "Switching re-shoots photons and re-renders, keeps the BVH");
     const long long photons_lo = 0, photons_hi = 5'000'000;
     ImGui::SliderScalar("photons", ImGuiDataType_S64, &k.num_photons, &photons_lo, &photons_hi, "%lld",
                         ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
@@ -80,6 +85,17 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     ImGui::SameLine();
     ImGui::Checkbox("photon dots", &k.photon_dots);
     hint("show the stored photons as dots");
+    if (k.integrator == IntegratorKind::classic) {
+        ImGui::Checkbox("global illumination", &k.gi);
+        hint("classic --gi: a GI photon map replaces the ambient term; re-shoots photons");
+        if (k.gi) {
+            const long long gi_lo = 1000, gi_hi = 10'000'000;
+            ImGui::SliderScalar("GI photons", ImGuiDataType_S64, &k.gi_photons, &gi_lo, &gi_hi, "%lld",
+                                ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+            ImGui::SliderInt("GI neighbours", &k.gi_neighbours, 1, 1000, "%d",
+                             ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+        }
+    }
     model.set_knobs(k);
     if (ImGui::SmallButton("script values")) model.reset_knobs();
     ImGui::SameLine();

@@ -23,7 +23,7 @@ void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window) {
     ImGui::Begin("caustica preview", nullptr, flags);
     ImGui::PushItemWidth(-150.0f);  // room for the labels on the right
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) draw_scene_section(model, state);
-    if (ImGui::CollapsingHeader("Caustics", ImGuiTreeNodeFlags_DefaultOpen)) draw_caustics_section(model, state);
+    if (ImGui::CollapsingHeader("Light transport and caustics", ImGuiTreeNodeFlags_DefaultOpen)) draw_caustics_section(model, state);
     if (ImGui::CollapsingHeader("View and save")) draw_view_section(model, state);
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) draw_stats_section(model, state);
     ImGui::PopItemWidth();

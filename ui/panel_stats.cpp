@@ -36,6 +36,7 @@ void draw_stats_section(const ViewModel& model, const PanelState& state) {
     const PreviewDriver& driver = model.driver();
     const RenderStats& stats = driver.stats();
     const SessionProgress& p = driver.progress();
+    ImGui::Text("integrator: %s", model.knobs().integrator == IntegratorKind::classic ? "classic" : "progressive");
 
     for (std::size_t l = 0; l < stats.caustic_lights.size(); ++l) {
         const LightCausticStats& c = stats.caustic_lights[l];

@@ -129,7 +129,10 @@ void sweep(Operation op, const CsgSegmentList& a, const CsgSegmentList& b, float
         }
         // The subtracted operand bounds the result from its other side.
         const bool flipped = op == Operation::subtract && !take_a;
-        if (flipped) c.normal = -c.normal;
+        if (flipped) {
+            c.normal = -c.normal;
+            c.carved = true;
+        }
         const bool leaves_region_of_segment = is_leave != flipped;  // c points out of the piece before it
 
         const int after = region_medium(op, a, b, in_a, in_b);

@@ -25,6 +25,9 @@ struct CsgCrossing {
     /// At a medium interface (two touching segments with different media) exactly one of the two
     /// touching ends is the real surface; the other is its mirror image (same t, negated normal).
     bool mirrored = false;
+    /// A surface of a subtracted operand (its normal flipped by a difference, at any level): a
+    /// transparent one is its own medium behind it (A6; CsgTree::first_boundary applies this).
+    bool carved = false;
 };
 
 /// The part of the ray inside a solid, with the medium (material) that fills it.
@@ -103,8 +106,9 @@ void csg_union(const CsgSegmentList& a, const CsgSegmentList& b, float epsilon, 
 /// that the operation cut (not whole input segments) are dropped, as are zero-length contacts.
 void csg_intersection(const CsgSegmentList& a, const CsgSegmentList& b, float epsilon, CsgSegmentList& out);
 
-/// Points of `a` not in `b`. Surfaces exposed by `b` keep b's material with their normals flipped;
-/// the medium is a's. Slivers no longer than `epsilon` are dropped (A - A is empty).
+/// Points of `a` not in `b`. Surfaces exposed by `b` keep b's material with their normals flipped
+/// and are marked `carved`; the segments' medium is a's. Slivers no longer than `epsilon` are
+/// dropped (A - A is empty).
 void csg_difference(const CsgSegmentList& a, const CsgSegmentList& b, float epsilon, CsgSegmentList& out);
 
 /// The first surface of a segment list at or after `tnear` (and not after `tfar`), with the

@@ -138,6 +138,10 @@ CsgTree::CsgTree(const FlatCsgObject& object, const SceneDesc& desc, int default
         leaf.object_to_world = glm::mat3(to_world);
         leaf.normal_to_world = glm::mat3(glm::transpose(glm::inverse(p.object_to_world)));
         leaf.material = p.material >= 0 ? p.material : default_material;
+        if (leaf.material >= 0 && static_cast<std::size_t>(leaf.material) < desc.materials.size()) {
+            const MaterialDesc& m = desc.materials[static_cast<std::size_t>(leaf.material)];
+            leaf.transparent = m.refractive_index.has_value() || m.air;
+        }
         glm::vec3 lo(infinity), hi(-infinity);
         if (p.is_mesh) {
             leaf.is_mesh = true;
@@ -412,7 +416,11 @@ void CsgTree::evaluate_deep(int index, const LineQuery& q, CsgSegmentList& out) 
 bool CsgTree::first_boundary(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& list,
                              CsgBoundary& out) const {
     evaluate(o, d, tnear, tfar, list);
-    return csg_first_boundary(list, tnear, tfar, out);
+    if (!csg_first_boundary(list, tnear, tfar, out)) return false;
+    const CsgCrossing& surface = *out.surface;
+    if (surface.carved && leaves_[static_cast<std::size_t>(surface.leaf)].transparent)
+        out.medium_inside = surface.material;
+    return true;
 }
 
 bool CsgTree::worth_visiting(int index, const LineQuery& q) const {

@@ -27,6 +27,7 @@ struct CsgLeaf {
     glm::mat3 object_to_world{1.0f};     ///< linear part, for tangents
     glm::mat3 normal_to_world{1.0f};
     int material = 0;                    ///< resolved material index (never -1)
+    bool transparent = false;            ///< the material is transparent (set_ri, or air)
     glm::vec3 lo{0.0f}, hi{0.0f};        ///< world bounds
 };
 
@@ -56,7 +57,9 @@ public:
     void evaluate(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& out) const;
 
     /// The first boundary of the solid in [tnear, tfar]; `list` receives the interval list
-    /// (`out.surface` points into it).
+    /// (`out.surface` points into it). A surface carved by a difference's second operand B with a
+    /// transparent material has B's material as its inside medium: the path that re-enters the
+    /// solid there is tinted by B (A6).
     bool first_boundary(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& list,
                         CsgBoundary& out) const;
 

@@ -47,6 +47,9 @@ struct SurfaceHit {
     /// `outside` is in front of it, or -1 when unknown (the ray's medium stack decides).
     int medium_inside = -1;
     int medium_outside = -1;
+    /// Hit on a surface of a CSG object: its medium interfaces are explicit (A6); otherwise
+    /// classic transport colours both directions with the object's own material (B1).
+    bool in_csg = false;
     // Surface frame for textures and bump maps: object_position, uv, dpdu and dpdv are filled only
     // when the scene has a textured or bump-mapped material (they cost trigonometry per hit).
     int face = 0;                           ///< face code of analytic shapes (see SurfaceCrossing)

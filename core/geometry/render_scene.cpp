@@ -1,5 +1,6 @@
 #include "core/geometry/render_scene.h"
 
+#include "core/geometry/render_scene_callbacks.h"
 #include "core/scene/source_location.h"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -43,31 +44,6 @@ void check_device(RTCDevice device, const char* what) {
         throw std::runtime_error(std::string(what) + ": " + last_embree_error());
 }
 
-/// What the analytic user geometry's callbacks read.
-/// With `brute_force` (--disable-bv) the geometry is one primitive holding them all, bounded by
-/// their union, so every ray that reaches it tests every primitive: no bounding volumes.
-struct AnalyticGeometry {
-    const RenderScene::AnalyticPrimitive* prims;
-    const glm::vec3* lo;
-    const glm::vec3* hi;
-    unsigned count = 0;
-    bool brute_force = false;
-
-    /// The primitives an Embree primitive stands for.
-    unsigned first(unsigned prim_id) const { return brute_force ? 0u : prim_id; }
-    unsigned last(unsigned prim_id) const { return brute_force ? count : prim_id + 1; }
-};
-
-void analytic_bounds(const RTCBoundsFunctionArguments* args) {
-    const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
-    glm::vec3 lo = geometry->lo[args->primID], hi = geometry->hi[args->primID];
-    if (geometry->brute_force)
-        for (unsigned i = 0; i < geometry->count; ++i) lo = glm::min(lo, geometry->lo[i]), hi = glm::max(hi, geometry->hi[i]);
-    RTCBounds* b = args->bounds_o;
-    b->lower_x = lo.x, b->lower_y = lo.y, b->lower_z = lo.z;
-    b->upper_x = hi.x, b->upper_y = hi.y, b->upper_z = hi.z;
-}
-
 /// `v` scaled to unit length (scaled down first, so that its squared length cannot overflow), or
 /// `fallback` when it has no direction.
 glm::vec3 unit_or(const glm::vec3& v, const glm::vec3& fallback) {
@@ -75,76 +51,6 @@ glm::vec3 unit_or(const glm::vec3& v, const glm::vec3& fallback) {
     const float m = std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
     if (!(m > 0.0f)) return fallback;
     return glm::normalize(v / m);
-}
-
-/// Whether a normal Embree may report: finite, and within its hit check's FLT_LARGE.
-bool finite_normal(const glm::vec3& n) {
-    return std::fabs(n.x) <= embree_coordinate_limit && std::fabs(n.y) <= embree_coordinate_limit &&
-           std::fabs(n.z) <= embree_coordinate_limit;
-}
-
-/// The crossing of a primitive nearest the ray start inside [tnear, tfar], if any.
-const SurfaceCrossing* nearest_crossing(const RenderScene::AnalyticPrimitive& prim, const glm::vec3& o,
-                                        const glm::vec3& d, float tnear, float tfar, ShapeInterval& interval) {
-    if (prim.world_space) {
-        if (!intersect_shape_interval(prim.shape, o, d, interval)) return nullptr;
-    } else {
-        const glm::vec3 oo = glm::vec3(prim.world_to_object * glm::vec4(o, 1.0f));
-        const glm::vec3 dd = glm::mat3(prim.world_to_object) * d;
-        if (!intersect_shape_interval(prim.shape, oo, dd, interval)) return nullptr;
-    }
-    // Only finite distances: a shape far from a line, or under an extreme transform, can yield an
-    // infinite or NaN root, which must never become a hit (Embree would trace from infinity next).
-    if (interval.entry.t >= tnear && interval.entry.t <= tfar && std::isfinite(interval.entry.t)) return &interval.entry;
-    if (interval.exit.t >= tnear && interval.exit.t <= tfar && std::isfinite(interval.exit.t)) return &interval.exit;
-    return nullptr;
-}
-
-void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
-    const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
-    const unsigned n = args->N;
-    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
-    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
-    for (unsigned i = 0; i < n; ++i)
-      for (unsigned p = geometry->first(args->primID); p < geometry->last(args->primID); ++p) {
-        const RenderScene::AnalyticPrimitive& prim = geometry->prims[p];
-        if (args->valid[i] != -1) continue;
-        const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
-        const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
-        ShapeInterval interval;
-        const SurfaceCrossing* c =
-            nearest_crossing(prim, o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), interval);
-        if (!c) continue;
-        const glm::vec3 normal = prim.normal_to_world * c->normal;
-        if (!finite_normal(normal)) continue;
-        RTCRayN_tfar(ray, n, i) = c->t;
-        RTCHitN_Ng_x(hit, n, i) = normal.x;
-        RTCHitN_Ng_y(hit, n, i) = normal.y;
-        RTCHitN_Ng_z(hit, n, i) = normal.z;
-        RTCHitN_u(hit, n, i) = static_cast<float>(c->face);
-        RTCHitN_v(hit, n, i) = 0.0f;
-        RTCHitN_primID(hit, n, i) = p;
-        RTCHitN_geomID(hit, n, i) = args->geomID;
-        for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
-            RTCHitN_instID(hit, n, i, level) = args->context->instID[level];
-      }
-}
-
-void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
-    const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
-    const unsigned n = args->N;
-    for (unsigned i = 0; i < n; ++i)
-      for (unsigned p = geometry->first(args->primID); p < geometry->last(args->primID); ++p) {
-        const RenderScene::AnalyticPrimitive& prim = geometry->prims[p];
-        if (args->valid[i] != -1 || RTCRayN_tfar(args->ray, n, i) < 0.0f) continue;
-        const glm::vec3 o(RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
-                          RTCRayN_org_z(args->ray, n, i));
-        const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
-                          RTCRayN_dir_z(args->ray, n, i));
-        ShapeInterval interval;
-        if (nearest_crossing(prim, o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), interval))
-            RTCRayN_tfar(args->ray, n, i) = -ray_infinity;
-      }
 }
 
 /// Folds a transform made of a translation and a positive scale into a sphere (uniform scale) or
@@ -174,79 +80,6 @@ void transformed_bounds(const Shape& shape, const glm::mat4& m, glm::vec3& lo, g
     glm::vec3 olo, ohi;
     shape_bounds(shape, olo, ohi);
     transformed_box(olo, ohi, m, lo, hi);
-}
-
-/// What a CSG hit leaves for fill_hit (Embree's hit record has no room for the leaf and media).
-struct CsgHitRecord {
-    int leaf = -1, face = 0, material = -1, medium_inside = -1, medium_outside = -1;
-};
-
-/// One record per ray of a packet and per thread: the CSG intersect callback writes it for each
-/// hit it accepts (so the last write is the final hit's), and fill_hit reads it right after the
-/// query on the same thread (Embree runs a query's callbacks on the thread that asked).
-thread_local CsgHitRecord csg_records[8];
-
-/// What the CSG user geometry's callbacks read.
-struct CsgGeometry {
-    const CsgTree* trees;
-};
-
-void csg_bounds(const RTCBoundsFunctionArguments* args) {
-    const auto* geometry = static_cast<const CsgGeometry*>(args->geometryUserPtr);
-    const CsgTree& tree = geometry->trees[args->primID];
-    const glm::vec3 lo = tree.lo(), hi = tree.hi();
-    RTCBounds* b = args->bounds_o;
-    b->lower_x = lo.x, b->lower_y = lo.y, b->lower_z = lo.z;
-    b->upper_x = hi.x, b->upper_y = hi.y, b->upper_z = hi.z;
-}
-
-void csg_intersect(const RTCIntersectFunctionNArguments* args) {
-    const auto* geometry = static_cast<const CsgGeometry*>(args->geometryUserPtr);
-    const CsgTree& tree = geometry->trees[args->primID];
-    const unsigned n = args->N;
-    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
-    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
-    for (unsigned i = 0; i < n; ++i) {
-        if (args->valid[i] != -1) continue;
-        const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
-        const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
-        CsgSegmentList list;
-        CsgBoundary boundary;
-        if (!tree.first_boundary(o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), list, boundary)) continue;
-        const CsgCrossing& surface = *boundary.surface;
-        const glm::vec3 normal = tree.leaf(surface.leaf).normal_to_world * surface.normal;
-        if (!std::isfinite(surface.t) || !finite_normal(normal)) continue;  // see nearest_crossing
-        RTCRayN_tfar(ray, n, i) = surface.t;
-        RTCHitN_Ng_x(hit, n, i) = normal.x;
-        RTCHitN_Ng_y(hit, n, i) = normal.y;
-        RTCHitN_Ng_z(hit, n, i) = normal.z;
-        RTCHitN_u(hit, n, i) = 0.0f;
-        RTCHitN_v(hit, n, i) = 0.0f;
-        RTCHitN_primID(hit, n, i) = args->primID;
-        RTCHitN_geomID(hit, n, i) = args->geomID;
-        for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
-            RTCHitN_instID(hit, n, i, level) = args->context->instID[level];
-        csg_records[RTCRayN_id(ray, n, i) & 7u] = {surface.leaf, surface.face, surface.material,
-                                                   boundary.medium_inside, boundary.medium_outside};
-    }
-}
-
-void csg_occluded(const RTCOccludedFunctionNArguments* args) {
-    const auto* geometry = static_cast<const CsgGeometry*>(args->geometryUserPtr);
-    const CsgTree& tree = geometry->trees[args->primID];
-    const unsigned n = args->N;
-    for (unsigned i = 0; i < n; ++i) {
-        if (args->valid[i] != -1) continue;
-        const glm::vec3 o(RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
-                          RTCRayN_org_z(args->ray, n, i));
-        const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
-                          RTCRayN_dir_z(args->ray, n, i));
-        CsgSegmentList list;
-        CsgBoundary boundary;
-        if (tree.first_boundary(o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), list, boundary) &&
-            std::isfinite(boundary.surface->t))
-            RTCRayN_tfar(args->ray, n, i) = -ray_infinity;
-    }
 }
 
 /// Barycentric coordinates (of v1 and v2) of a point in the plane of a triangle.
@@ -286,11 +119,11 @@ RTCDevice embree_device() {
 
 // The user geometries' callback data, owned by the scene.
 struct RenderScene::AnalyticHolder {
-    AnalyticGeometry geometry;
+    user_geometry::AnalyticGeometry geometry;
     std::vector<glm::vec3> lo, hi;
 };
 struct RenderScene::CsgHolder {
-    CsgGeometry geometry;
+    user_geometry::CsgGeometry geometry;
 };
 
 int RenderScene::mesh_slot(const SceneDesc& desc, int mesh_index, bool robust) {
@@ -391,9 +224,9 @@ void RenderScene::build(const SceneDesc& desc, const FlatScene& flat) {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
         rtcSetGeometryUserPrimitiveCount(g, flat.bounding_volumes ? static_cast<unsigned>(analytic_.size()) : 1u);
         rtcSetGeometryUserData(g, &holder->geometry);
-        rtcSetGeometryBoundsFunction(g, analytic_bounds, nullptr);
-        rtcSetGeometryIntersectFunction(g, analytic_intersect);
-        rtcSetGeometryOccludedFunction(g, analytic_occluded);
+        rtcSetGeometryBoundsFunction(g, user_geometry::analytic_bounds, nullptr);
+        rtcSetGeometryIntersectFunction(g, user_geometry::analytic_intersect);
+        rtcSetGeometryOccludedFunction(g, user_geometry::analytic_occluded);
         rtcCommitGeometry(g);
         analytic_geom_id_ = rtcAttachGeometry(scene_, g);
         rtcReleaseGeometry(g);
@@ -413,9 +246,9 @@ void RenderScene::build(const SceneDesc& desc, const FlatScene& flat) {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
         rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(csg_.size()));
         rtcSetGeometryUserData(g, &csg_holder->geometry);
-        rtcSetGeometryBoundsFunction(g, csg_bounds, nullptr);
-        rtcSetGeometryIntersectFunction(g, csg_intersect);
-        rtcSetGeometryOccludedFunction(g, csg_occluded);
+        rtcSetGeometryBoundsFunction(g, user_geometry::csg_bounds, nullptr);
+        rtcSetGeometryIntersectFunction(g, user_geometry::csg_intersect);
+        rtcSetGeometryOccludedFunction(g, user_geometry::csg_occluded);
         rtcCommitGeometry(g);
         csg_geom_id_ = first_instance_id_ + static_cast<unsigned>(pending.size());
         rtcAttachGeometryByID(scene_, g, csg_geom_id_);
@@ -522,11 +355,12 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
     }
     hit.medium_inside = hit.material;
     hit.medium_outside = -1;
+    hit.in_csg = false;
 }
 
 void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const {
     const CsgTree& tree = csg_[rh.hit.primID];
-    const CsgHitRecord& record = csg_records[lane & 7];
+    const user_geometry::CsgHitRecord& record = user_geometry::csg_hit_record(lane);
     const CsgLeaf& leaf = tree.leaf(record.leaf);
     // The normal of the surface the CSG chose, already oriented from its inside medium to its outside.
     hit.normal = unit_or(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
@@ -534,6 +368,7 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
     hit.material = record.material;
     hit.medium_inside = record.medium_inside;
     hit.medium_outside = record.medium_outside;
+    hit.in_csg = true;
     hit.face = record.face;
     hit.shape_kind = leaf.is_mesh ? -1 : static_cast<int>(leaf.shape.kind);
     if (!surface_frames_) return;

@@ -70,15 +70,15 @@ bool box_interval(const Shape& s, const glm::vec3& o, const glm::vec3& d, ShapeI
     return true;
 }
 
-/// The ray's interval inside the slab y in [-1, 1], with the cap crossing for each end.
-bool unit_slab_y(const glm::vec3& o, const glm::vec3& d, SurfaceCrossing& enter, SurfaceCrossing& leave) {
+/// The ray's interval inside the slab y in [lo, hi], with the cap crossing for each end.
+bool slab_y(float lo, float hi, const glm::vec3& o, const glm::vec3& d, SurfaceCrossing& enter, SurfaceCrossing& leave) {
     if (d.y == 0.0f) {
-        if (o.y < -1.0f || o.y > 1.0f) return false;
+        if (o.y < lo || o.y > hi) return false;
         enter = {-infinity, glm::vec3(0.0f), 0};
         leave = {infinity, glm::vec3(0.0f), 0};
         return true;
     }
-    const float t_bottom = (-1.0f - o.y) / d.y, t_top = (1.0f - o.y) / d.y;
+    const float t_bottom = (lo - o.y) / d.y, t_top = (hi - o.y) / d.y;
     const SurfaceCrossing bottom{t_bottom, {0.0f, -1.0f, 0.0f}, 2};
     const SurfaceCrossing top{t_top, {0.0f, 1.0f, 0.0f}, 1};
     enter = d.y > 0.0f ? bottom : top;
@@ -99,7 +99,7 @@ bool clip_to_slab(SurfaceCrossing enter, SurfaceCrossing leave, const SurfaceCro
 
 bool cylinder_interval(const Shape&, const glm::vec3& o, const glm::vec3& d, ShapeInterval& out) {
     SurfaceCrossing slab_enter, slab_leave;
-    if (!unit_slab_y(o, d, slab_enter, slab_leave)) return false;
+    if (!slab_y(-1.0f, 1.0f, o, d, slab_enter, slab_leave)) return false;
     const glm::vec2 o2(o.x, o.z), d2(d.x, d.z);
     const float a = glm::dot(d2, d2);
     SurfaceCrossing enter{-infinity, glm::vec3(0.0f), 0}, leave{infinity, glm::vec3(0.0f), 0};
@@ -121,15 +121,16 @@ bool cylinder_interval(const Shape&, const glm::vec3& o, const glm::vec3& d, Sha
 
 bool cone_interval(const Shape&, const glm::vec3& o, const glm::vec3& d, ShapeInterval& out) {
     SurfaceCrossing slab_enter, slab_leave;
-    if (!unit_slab_y(o, d, slab_enter, slab_leave)) return false;
-    // Double cone x^2 + z^2 = ((1 - y) / 2)^2 with the apex at y = 1; the slab keeps the lower nappe.
-    const float w0 = 1.0f - o.y;
-    const float a = d.x * d.x + d.z * d.z - 0.25f * d.y * d.y;
-    const float bh = o.x * d.x + o.z * d.z + 0.25f * w0 * d.y;
-    const float c = o.x * o.x + o.z * o.z - 0.25f * w0 * w0;
+    if (!slab_y(-0.5f, 0.5f, o, d, slab_enter, slab_leave)) return false;
+    // Double cone x^2 + z^2 = (1/2 - y)^2 with the apex at y = 1/2 (half-angle 45 degrees); the
+    // slab y in [-1/2, 1/2] keeps the lower nappe (SEED_BEHAVIOUR A2: height 1, base radius 1).
+    const float w0 = 0.5f - o.y;
+    const float a = d.x * d.x + d.z * d.z - d.y * d.y;
+    const float bh = o.x * d.x + o.z * d.z + w0 * d.y;
+    const float c = o.x * o.x + o.z * o.z - w0 * w0;
     auto lateral = [&](float t) {
         const glm::vec3 p = o + t * d;
-        return SurfaceCrossing{t, {2.0f * p.x, 0.5f * (1.0f - p.y), 2.0f * p.z}, 0};
+        return SurfaceCrossing{t, {p.x, 0.5f - p.y, p.z}, 0};
     };
     const SurfaceCrossing minus_inf{-infinity, glm::vec3(0.0f), 0}, plus_inf{infinity, glm::vec3(0.0f), 0};
     const float disc = bh * bh - a * c;
@@ -185,76 +186,106 @@ void shape_bounds(const Shape& shape, glm::vec3& lo, glm::vec3& hi) {
             hi = shape.b;
             return;
         case ShapeKind::cylinder:
-        case ShapeKind::cone:
             lo = glm::vec3(-1.0f);
             hi = glm::vec3(1.0f);
+            return;
+        case ShapeKind::cone:
+            lo = glm::vec3(-1.0f, -0.5f, -1.0f);
+            hi = glm::vec3(1.0f, 0.5f, 1.0f);
             return;
     }
 }
 
+namespace {
+
+// Box face codes (SurfaceCrossing::face) and cylinder/cone faces.
+constexpr int face_minus_x = 0, face_plus_x = 1, face_minus_y = 2, face_plus_y = 3, face_minus_z = 4;
+constexpr int face_side = 0, face_top_cap = 1;
+
+/// u around the y axis of the cylinder and cone sides: 1/2 + atan2(z, x) / 2 pi.
+float around_y(const glm::vec3& p) { return 0.5f + std::atan2(p.z, p.x) / (2.0f * pi); }
+
+/// The cube's 4 x 3 cross (A2 table), from s = the point's position in the box, in [0,1]^3.
+glm::vec2 box_uv(const glm::vec3& s, int face) {
+    switch (face) {
+        case face_plus_x: return {(3.0f - s.y) / 4.0f, (2.0f - s.z) / 3.0f};
+        case face_minus_x: return {s.y / 4.0f, (2.0f - s.z) / 3.0f};
+        case face_plus_y: return {(1.0f + s.x) / 4.0f, (2.0f - s.z) / 3.0f};
+        case face_minus_y: return {(4.0f - s.x) / 4.0f, (2.0f - s.z) / 3.0f};
+        case face_minus_z: return {(1.0f + s.x) / 4.0f, (3.0f - s.y) / 3.0f};
+        default: return {(1.0f + s.x) / 4.0f, s.y / 3.0f};  // +z
+    }
+}
+
+/// The cube's tangents (A2 table): U and V per face.
+void box_tangents(int face, glm::vec3& tangent_u, glm::vec3& tangent_v) {
+    switch (face) {
+        case face_plus_x: tangent_u = {0, -1, 0}, tangent_v = {0, 0, -1}; return;
+        case face_minus_x: tangent_u = {0, 1, 0}, tangent_v = {0, 0, -1}; return;
+        case face_plus_y: tangent_u = {1, 0, 0}, tangent_v = {0, 0, -1}; return;
+        case face_minus_y: tangent_u = {-1, 0, 0}, tangent_v = {0, 0, -1}; return;
+        case face_minus_z: tangent_u = {1, 0, 0}, tangent_v = {0, -1, 0}; return;
+        default: tangent_u = {1, 0, 0}, tangent_v = {0, 1, 0}; return;  // +z
+    }
+}
+
+/// `v` at unit length, or zero when it has no direction.
+glm::vec3 unit_or_zero(const glm::vec3& v) {
+    const float length = glm::length(v);
+    return length > 0.0f && std::isfinite(length) ? v / length : glm::vec3(0.0f);
+}
+
+}  // namespace
+
 glm::vec2 shape_uv(const Shape& shape, const glm::vec3& p, int face) {
-    auto around_y = [](const glm::vec3& q) { return 0.5f + std::atan2(q.x, q.z) / (2.0f * pi); };
     switch (shape.kind) {
         case ShapeKind::sphere: {
+            // u = 1/2 + atan2(-z, x) / 2 pi (seam at -x, +z at u = 1/4), v = (1 + y) / 2.
             const glm::vec3 q = (p - shape.a) / shape.b.x;
-            return {around_y(q), std::acos(std::clamp(q.y, -1.0f, 1.0f)) / pi};
+            return {0.5f + std::atan2(-q.z, q.x) / (2.0f * pi), std::clamp(0.5f * (1.0f + q.y), 0.0f, 1.0f)};
         }
-        case ShapeKind::box: {
-            const glm::vec3 q = (p - shape.a) / (shape.b - shape.a);
-            const int axis = face / 2;
-            const int u_axis = axis == 0 ? 2 : 0, v_axis = axis == 1 ? 2 : 1;
-            return {std::clamp(q[u_axis], 0.0f, 1.0f), std::clamp(1.0f - q[v_axis], 0.0f, 1.0f)};
-        }
+        case ShapeKind::box:
+            return box_uv(glm::clamp((p - shape.a) / (shape.b - shape.a), 0.0f, 1.0f), face);
         case ShapeKind::cylinder:
+            if (face == face_side) return {around_y(p), std::clamp(0.25f * (1.0f - p.y), 0.0f, 0.5f)};
+            if (face == face_top_cap) return {0.25f * (3.0f + p.x), 0.25f * (3.0f + p.z)};
+            return {0.25f * (1.0f + p.x), 0.25f * (3.0f + p.z)};
         case ShapeKind::cone:
-            if (face == 0) return {around_y(p), std::clamp(0.5f * (1.0f - p.y), 0.0f, 1.0f)};
-            return {0.5f * (p.x + 1.0f), 0.5f * (p.z + 1.0f)};
+            if (face == face_side) return {around_y(p), std::clamp(0.5f * (0.5f - p.y), 0.0f, 0.5f)};
+            return {0.5f * (1.0f + p.x), 0.25f * (3.0f + p.z)};
     }
     return {0.0f, 0.0f};
 }
 
-void shape_tangents(const Shape& shape, const glm::vec3& p, int face, glm::vec3& dpdu, glm::vec3& dpdv) {
-    constexpr float two_pi = 2.0f * pi;
+void shape_tangents(const Shape& shape, const glm::vec3& p, int face, glm::vec3& tangent_u, glm::vec3& tangent_v) {
     switch (shape.kind) {
         case ShapeKind::sphere: {
-            const float r = shape.b.x;
-            const glm::vec3 q = (p - shape.a) / r;
-            const float sin_theta = std::sqrt(std::max(0.0f, q.x * q.x + q.z * q.z));
-            dpdu = two_pi * r * glm::vec3(q.z, 0.0f, -q.x);
-            if (sin_theta > 0.0f) {
-                const float cos_theta = q.y;
-                dpdv = pi * r * glm::vec3(cos_theta * q.x / sin_theta, -sin_theta, cos_theta * q.z / sin_theta);
-            } else {
-                dpdv = glm::vec3(0.0f);
-            }
+            // U = normalise(y, 0, -x): zero at (0, 0, +-1), where the original has no tangent.
+            const glm::vec3 q = (p - shape.a) / shape.b.x;
+            tangent_u = unit_or_zero({q.y, 0.0f, -q.x});
+            tangent_v = unit_or_zero(glm::cross(unit_or_zero(q), tangent_u));
             return;
         }
-        case ShapeKind::box: {
-            const int axis = face / 2;
-            const int u_axis = axis == 0 ? 2 : 0, v_axis = axis == 1 ? 2 : 1;
-            const glm::vec3 extent = shape.b - shape.a;
-            dpdu = glm::vec3(0.0f);
-            dpdv = glm::vec3(0.0f);
-            dpdu[u_axis] = extent[u_axis];
-            dpdv[v_axis] = -extent[v_axis];
-            return;
-        }
+        case ShapeKind::box: box_tangents(face, tangent_u, tangent_v); return;
         case ShapeKind::cylinder:
-        case ShapeKind::cone:
-            if (face != 0) {
-                dpdu = {2.0f, 0.0f, 0.0f};
-                dpdv = {0.0f, 0.0f, 2.0f};
+            if (face != face_side) {
+                tangent_u = {1, 0, 0}, tangent_v = {0, 0, 1};
                 return;
             }
-            dpdu = two_pi * glm::vec3(p.z, 0.0f, -p.x);
-            if (shape.kind == ShapeKind::cylinder) {
-                dpdv = {0.0f, -2.0f, 0.0f};
-            } else {
-                const float r = std::sqrt(p.x * p.x + p.z * p.z);
-                dpdv = r > 0.0f ? glm::vec3(p.x / r, -2.0f, p.z / r) : glm::vec3(0.0f, -2.0f, 0.0f);
+            tangent_u = unit_or_zero({-p.z, 0.0f, p.x});  // along increasing u
+            tangent_v = {0, -1, 0};
+            return;
+        case ShapeKind::cone:
+            if (face != face_side) {
+                tangent_u = {1, 0, 0}, tangent_v = {0, 0, 1};
+                return;
             }
+            // V: towards the apex; U = V x N (the outward normal is (x, 1/2 - y, z) normalised).
+            tangent_v = unit_or_zero(glm::vec3(0.0f, 0.5f, 0.0f) - p);
+            tangent_u = unit_or_zero(glm::cross(tangent_v, unit_or_zero({p.x, 0.5f - p.y, p.z})));
             return;
     }
+    tangent_u = tangent_v = glm::vec3(0.0f);
 }
 
 }  // namespace caustica

@@ -11,7 +11,7 @@ enum class ShapeKind : unsigned char {
     sphere,    ///< centre + radius
     box,       ///< axis-aligned [lo, hi]
     cylinder,  ///< axis y, y in [-1,1], radius 1, capped
-    cone,      ///< axis y, apex at y = +1, radius 1 at the base y = -1, base capped
+    cone,      ///< axis y, height 1: apex at y = +1/2, radius 1 at the base y = -1/2, base capped
 };
 
 /// An analytic shape with its parameters (only sphere and box use them).
@@ -42,11 +42,13 @@ bool intersect_shape_interval(const Shape& shape, const glm::vec3& o, const glm:
 /// Object-space bounding box of a shape.
 void shape_bounds(const Shape& shape, glm::vec3& lo, glm::vec3& hi);
 
-/// Surface parameters (u, v in [0,1]) of an object-space point on `face` of the shape.
+/// Texture coordinates (u, v in [0,1], v = 1 at an image's top row) of an object-space point on
+/// `face` of the shape: the original renderer's layouts (docs/TEXTURES.md, SEED_BEHAVIOUR A2).
 glm::vec2 shape_uv(const Shape& shape, const glm::vec3& p, int face);
 
-/// Object-space tangents dp/du and dp/dv of shape_uv's parametrisation at a surface point
-/// (zero where the parametrisation is singular, e.g. at a sphere's poles).
-void shape_tangents(const Shape& shape, const glm::vec3& p, int face, glm::vec3& dpdu, glm::vec3& dpdv);
+/// The bump-map tangents U and V at a surface point, in object space, unit length (or zero where
+/// the original has none, e.g. the sphere's U at (0, 0, +-1) or the cone's apex): the per-face
+/// directions of SEED_BEHAVIOUR A2, which are not always dp/du and dp/dv of shape_uv.
+void shape_tangents(const Shape& shape, const glm::vec3& p, int face, glm::vec3& tangent_u, glm::vec3& tangent_v);
 
 }  // namespace caustica

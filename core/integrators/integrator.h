@@ -1,108 +1,92 @@
-// The Whitted-style integrator with the course's Phong model (ambient kd, per light
-// kd (n.l) + ks (r.v)^shininess over c0 + c1 d + c2 d^2), shadows (hard, or soft from spherical
-// lights), mirror reflection, and Fresnel-weighted reflection/refraction through coloured media.
+// The seam between the image passes and light transport. The tile renderer (core/render/) asks an
+// Integrator for the colour along camera rays and how the pixels of an image are sampled; two
+// integrators sit behind it, chosen per render by --integrator:
+//   classic      the original renderer's rules (SEED_BEHAVIOUR.md Part B), core/integrators/classic.*
+//   progressive  our physically motivated photon mapper, core/integrators/progressive.*
+// Both share the scene language (Part A): core/integrators/shading_common.*.
 #pragma once
 
-#include "core/shading/material.h"
-#include "core/shading/medium_stack.h"
-#include "core/scene/options.h"
+#include "core/geometry/render_scene.h"
 #include "core/photons/photon_map.h"
 #include "core/photons/projection_map.h"
 #include "core/render/random.h"
-#include "core/geometry/render_scene.h"
 #include "core/render/render_stats.h"
+#include "core/scene/options.h"
+#include "core/shading/material.h"
 #include "core/shading/texture.h"
 
+#include <memory>
+#include <utility>
 #include <vector>
 
 namespace caustica {
 
-/// Scene-wide shading inputs for one render job.
+/// Scene-wide shading inputs for one render job, shared by both integrators.
 struct ShadingSetup {
     const RenderScene* scene = nullptr;
     const TextureSet* textures = nullptr;  ///< may be null: no textures
     std::vector<Light> lights;
     glm::vec3 ambient{0.0f};
-    glm::vec3 miss_colour{0.0f};
-    bool sky = false;        ///< --rays
-    int max_depth = 8;
-    float min_weight = 1e-3f;
-    int shadow_grid = 4;     ///< N x N shadow samples on a spherical light
+    glm::vec3 miss_colour{1.0f};  ///< SEED_BEHAVIOUR.md A5: white unless gr.set_miss_colour
+    bool sky = false;             ///< --rays: the orange sunburst behind everything (A5)
+    glm::vec3 view_right{1.0f, 0.0f, 0.0f}, view_up{0.0f, 1.0f, 0.0f};  ///< camera frame for the sunburst
+    int max_depth = 8;            ///< progressive: recursion limit
+    float min_weight = 1e-3f;     ///< progressive: path weight cut
+    int shadow_grid = 4;          ///< N x N shadow samples on a spherical light
     bool soft_shadows = true;
     float unit_distance = 1.0f;
-    // Caustics (seed 1.1.3): the photon map and how it is gathered; null map = no caustics.
+    // Photon maps (null = none) and how they are gathered.
     const PhotonMap* caustic_map = nullptr;
-    int caustic_neighbours = 100;
+    int caustic_neighbours = 5;
     float caustic_max_distance = 0.15f;
-    PhotonFilter caustic_filter = PhotonFilter::none;
-    bool draw_caustics_only = false;  ///< only the caustic radiance, no ambient or direct light
-    bool draw_caustic_map = false;    ///< photons as dots
-    float dot_radius_per_distance = 0.0f;  ///< a dot's radius per unit of ray distance (about a pixel)
+    PhotonFilter caustic_filter = PhotonFilter::none;  ///< progressive only
+    const PhotonMap* gi_map = nullptr;                 ///< classic --gi
+    int gi_neighbours = 100;
+    // Debug views (B6).
+    bool draw_caustics_only = false;
+    bool draw_caustic_map = false;
+    bool draw_gi_only = false;
+    bool draw_gi_map = false;
+    float dot_radius_per_distance = 0.0f;  ///< progressive dots: a dot's radius per unit of ray distance
     /// --draw-caustic-prm: per light, the projection map (null when not built) and its position.
     std::vector<std::pair<const ProjectionMap*, glm::vec3>> projection_maps;
 };
 
-/// Radiance along rays; stateless apart from the counters and random stream passed in.
+/// How an integrator wants the pixels of an image sampled.
+enum class PixelSampling {
+    /// A sample through each pixel centre, then an N x N jittered grid where a pixel differs from
+    /// a neighbour by more than the threshold.
+    adaptive_neighbours,
+    /// SEED_BEHAVIOUR.md B3: an N x N regular grid; above N = 2 the four corner samples first,
+    /// and the rest only where those four differ by more than the threshold.
+    corner_grid,
+};
+
+/// Radiance along camera rays. Implementations are immutable during a render and called from
+/// many threads at once; per-sample state lives in the RandomStream and RayCounters passed in.
 class Integrator {
 public:
-    explicit Integrator(const ShadingSetup& setup) : setup_(setup) {}
+    virtual ~Integrator() = default;
+
+    /// "classic" or "progressive".
+    virtual const char* name() const = 0;
+
+    /// How the tile renderer samples pixels for this integrator.
+    virtual PixelSampling pixel_sampling() const = 0;
 
     /// Colour seen along a camera ray.
-    glm::vec3 trace_camera_ray(const Ray& ray, RandomStream& random, RayCounters& counters) const;
+    virtual glm::vec3 trace_camera_ray(const Ray& ray, RandomStream& random, RayCounters& counters) const = 0;
 
-    /// Lights whose shadow rays primary packets trace together (the rest are traced one by one).
-    static constexpr int packet_lights = 8;
-
-    /// Traces, as 8-ray packets, the shadow rays of 8 primary hits towards each point light (up to
-    /// packet_lights of them): visibility[lane][light] becomes 0 or 1, or stays -1 where no ray
-    /// was needed (no hit, light behind the surface, spherical light).
-    void primary_visibility8(const Ray* rays, const SurfaceHit* hits, const bool* found,
-                             float (*visibility)[packet_lights], RayCounters& counters) const;
-
-    /// Colour at a surface already found by a primary ray (used by packet tracing), with the
-    /// light visibility primary_visibility8 found (or null).
-    glm::vec3 shade_primary_hit(const Ray& ray, const SurfaceHit& hit, RandomStream& random, RayCounters& counters,
-                                const float* visibility = nullptr) const;
-
-    /// Packet intersection of primary rays against the scene.
-    void scene_intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const {
-        setup_.scene->intersect8(rays, valid, hits, found);
+    /// Colours of up to 8 camera rays (lanes with valid[i] == 0 are skipped); streams[i] belongs
+    /// to ray i. The default traces them one by one; integrators override it with packets.
+    virtual void trace_camera_rays8(const Ray* rays, const int* valid, RandomStream* streams, glm::vec3* out,
+                                    RayCounters& counters) const {
+        for (int i = 0; i < 8; ++i)
+            if (valid[i]) out[i] = trace_camera_ray(rays[i], streams[i], counters);
     }
-
-    /// Colour of a ray that escapes the scene.
-    glm::vec3 background(const glm::vec3& direction) const;
-
-    /// Fraction of a light visible from a point (1 or 0 for point lights; stratified for spheres).
-    float light_visibility(const Light& light, const glm::vec3& point, RandomStream& random,
-                           RayCounters& counters) const;
-
-private:
-    /// The state a ray path carries down the recursion.
-    struct PathState {
-        int depth = 0;
-        /// Throughput deciding the min-weight cut. Each bounce's factor counts at most 1 (ks above
-        /// 1 included), so that the weights of the paths alive at a depth sum to at most 1 and
-        /// no more than 1 / min_weight of them are traced: ks = 1e6 glass cannot make the
-        /// reflection/refraction tree grow as 2^depth.
-        glm::vec3 weight{1.0f};
-        MediumStack media;
-        const float* known_visibility = nullptr;  ///< per light, from packets; primary hits only
-    };
-
-    glm::vec3 trace(const Ray& ray, const PathState& path, RandomStream& random, RayCounters& counters) const;
-    glm::vec3 shade(const Ray& ray, const SurfaceHit& hit, const PathState& path, RandomStream& random,
-                    RayCounters& counters) const;
-    glm::vec3 direct_light(const Material& m, const glm::vec3& kd, const SurfaceHit& hit, const glm::vec3& n,
-                           const glm::vec3& to_eye, bool diffuse, const float* known_visibility,
-                           RandomStream& random, RayCounters& counters) const;
-    glm::vec3 dielectric(const Ray& ray, const SurfaceHit& hit, const Material& m, const glm::vec3& n,
-                         const PathState& path, RandomStream& random, RayCounters& counters) const;
-    float medium_index(int material) const;
-    glm::vec3 caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
-                               RayCounters& counters) const;
-    glm::vec3 debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const;
-
-    const ShadingSetup& setup_;
 };
+
+/// The integrator `kind` over `setup` (which must outlive it).
+std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const ShadingSetup& setup);
 
 }  // namespace caustica

@@ -196,7 +196,7 @@ bool read_info(PngReader& r, const PngReadLimits& limits) {
     png_set_read_fn(r.png, &r.input, read_from_memory);
     png_set_sig_bytes(r.png, 8);
     png_read_info(r.png, r.info);
-    png_set_strip_16(r.png);
+    png_set_scale_16(r.png);  // 16 bits -> the nearest 8-bit value (v * 255 / 65535, rounded)
     png_set_packing(r.png);
     png_set_expand(r.png);  // palette -> RGB, low-bit gray -> 8 bit, tRNS -> alpha
     png_set_interlace_handling(r.png);
@@ -453,10 +453,12 @@ FILE* create_temporary(const std::filesystem::path& target, const char* marker, 
 
 unsigned char encode_channel(float value, PixelEncoding encoding) {
     float v = std::isnan(value) ? 0.0f : std::fmin(std::fmax(value, 0.0f), 1.0f);
-    if (encoding == PixelEncoding::srgb)
-        v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-    // v * 255 lies in [0, 255]: adding 0.5 in double is exact, so truncating rounds half up
-    // exactly as std::lround does (checked over every float in [0, 1]), without its cost.
+    // Linear: x255 and truncate, no rounding, as the original wrote its images (SEED_BEHAVIOUR A7),
+    // so 0.999 -> 254 and 0.5 -> 127.
+    if (encoding != PixelEncoding::srgb) return static_cast<unsigned char>(v * 255.0f);
+    // --srgb is ours, not the original's: the sRGB curve, rounded to the nearest value (v * 255
+    // lies in [0, 255], so adding 0.5 in double is exact and truncating rounds half up).
+    v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
     return static_cast<unsigned char>(static_cast<double>(v * 255.0f) + 0.5);
 }
 

@@ -17,11 +17,13 @@ namespace caustica {
 
 /// How linear radiance becomes 8-bit values.
 enum class PixelEncoding {
-    clamped_linear,  ///< clamp to [0,1], no gamma (the seed's behaviour, the default)
-    srgb,            ///< clamp, then the sRGB transfer curve (--srgb)
+    clamped_linear,  ///< clamp to [0,1], x255, truncate; no gamma (the original's output, the default)
+    srgb,            ///< clamp, then the sRGB transfer curve, rounded (--srgb, ours)
 };
 
-/// 8-bit value of one linear channel under an encoding.
+/// 8-bit value of one linear channel under an encoding: clamp to [0,1] (NaN -> 0), then
+/// clamped_linear: x255, truncated (0.5 -> 127, 0.999 -> 254, 1 -> 255); srgb: the sRGB curve,
+/// x255, rounded.
 unsigned char encode_channel(float value, PixelEncoding encoding);
 
 /// Thrown by write_png_atomic when its cancel flag was raised; the temporary is already removed
@@ -97,7 +99,8 @@ PngHeader read_png_header(std::span<const unsigned char> bytes, const std::strin
                           const PngReadLimits& limits = {});
 
 /// Decodes a PNG held in memory, of any bit depth and colour type, as 8-bit gray, gray+alpha,
-/// RGB or RGBA, after read_png_header's checks. Peak memory is the decoded image plus libpng's
+/// RGB or RGBA, after read_png_header's checks: palettes become RGB(A), gray of 1, 2 or 4 bits
+/// is scaled to 8 bits, 16-bit samples are scaled to the nearest 8-bit value. Peak memory is the decoded image plus libpng's
 /// row buffers and at most `limits.max_chunk_bytes` per ancillary chunk. Throws
 /// std::runtime_error "DISPLAY_NAME: reason".
 Png8 read_png_memory(std::span<const unsigned char> bytes, const std::string& display_name,

@@ -55,11 +55,12 @@ struct LoaderContext {
     SceneDesc scene;
     std::vector<bool> texture_is_bumpmap;   ///< parallel to scene.textures
     std::map<std::pair<std::uint64_t, std::uint64_t>, int> mesh_cache;  ///< (device, inode) -> scene.meshes index
+    int isodecahedron_mesh = -1;            ///< scene.meshes index of gr.isodecahedron's mesh, made once
     std::map<std::pair<std::uint64_t, std::uint64_t>, std::shared_ptr<const Png8>> image_cache;  ///< decoded once per file
     std::size_t scene_bytes = 0;            ///< estimate of ctx.scene's size: what one gr.render snapshot costs
     Options options;                        ///< base options + every gr.option so far
     std::vector<std::pair<std::string, SourceLocation>> option_origins;  ///< see RenderJob::option_origins
-    glm::dvec3 miss_colour{0.0};
+    glm::dvec3 miss_colour{1.0};            ///< SEED_BEHAVIOUR.md A5: white until gr.set_miss_colour
     std::vector<RenderJob> renders;
     std::vector<std::string> warnings;
     std::string warning_in_progress;        ///< pieces of a multi-part warn() message
@@ -187,5 +188,9 @@ SceneScript run_script(const std::string& path, const LoadSettings& settings, Sh
 /// Opens base, table, string, math, utf8 and the restricted io, os, debug, package, require,
 /// module and load (lua_CFunction run under lua_pcall while the state is set up).
 int open_sandboxed_libraries(lua_State* L);
+
+/// Adds the Lua 5.1 names to the opened libraries: string.gfind, table.getn, unpack, math.mod,
+/// math.pow, loadstring (text only) and 5.1's math.random/math.randomseed (lua_random51.h).
+void open_lua51_compat(lua_State* L);
 
 }  // namespace caustica::scene_lua

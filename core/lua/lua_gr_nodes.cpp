@@ -5,6 +5,8 @@
 #include "core/geometry/mesh_obj.h"
 
 #include <cctype>
+#include <cfloat>
+#include <cmath>
 
 namespace caustica::scene_lua {
 namespace {
@@ -91,29 +93,201 @@ CallResult gr_nh_box(lua_State* L, LoaderContext& ctx) {
     return positioned_primitive(L, ctx, NodeKind::nh_box, "name, {x,y,z}, size", "size");
 }
 
-CallResult gr_mesh(lua_State* L, LoaderContext& ctx) {
-    expect_arguments(L, 1, 2, 2, "name, 'file.obj'");
-    std::string name = string_arg(L, 1, "name");
-    const std::string as_written = string_arg(L, 2, "file name");
+/// Adds a mesh to the scene (its data already charged) and returns its index.
+int add_mesh(LoaderContext& ctx, std::shared_ptr<const MeshData> mesh) {
+    charge_append(ctx, ctx.scene.meshes, 0, "the scene's mesh list");
+    ctx.scene.meshes.push_back(std::move(mesh));
+    return static_cast<int>(ctx.scene.meshes.size()) - 1;
+}
+
+/// gr.mesh(name, 'file.obj'): the OBJ reader; the same file named twice is read once.
+int obj_mesh(LoaderContext& ctx, const std::string& as_written) {
     const SceneFile file = open_scene_file(ctx, as_written);
-    int mesh = -1;
     const std::pair<std::uint64_t, std::uint64_t> identity{file.device, file.inode};
-    if (auto cached = ctx.mesh_cache.find(identity); cached != ctx.mesh_cache.end()) {
-        mesh = cached->second;
-    } else {
-        std::shared_ptr<const MeshData> data;
-        {
-            const std::string text = read_scene_file(ctx, file, "the mesh file");
-            data = parse_obj_mesh(text, as_written, file.path);
-            release_memory(ctx, text.size());  // the text goes; the mesh is charged instead
+    if (auto cached = ctx.mesh_cache.find(identity); cached != ctx.mesh_cache.end()) return cached->second;
+    std::shared_ptr<const MeshData> data;
+    {
+        const std::string text = read_scene_file(ctx, file, "the mesh file");
+        data = parse_obj_mesh(text, as_written, file.path);
+        release_memory(ctx, text.size());  // the text goes; the mesh is charged instead
+    }
+    charge_memory(ctx, mesh_bytes(*data), "the mesh");
+    const int mesh = add_mesh(ctx, std::move(data));
+    ctx.mesh_cache.emplace(identity, mesh);
+    return mesh;
+}
+
+/// Stops a long walk over a script's table every 4096 items when the time limit or the cancel
+/// flag says so (the script's error is then ctx.stop_message).
+void check_limits(LoaderContext& ctx, std::size_t item) {
+    if ((item & 0xfff) == 0 && limits_reached(ctx)) throw InputError(ctx.stop_message);
+}
+
+/// The length of the table at stack index `index` ("vertices must be a table of {x, y, z}, ...").
+std::size_t list_length(lua_State* L, int index, const char* what, const char* of) {
+    if (lua_type(L, index) != LUA_TTABLE)
+        throw InputError(std::string(what) + " must be a table of " + of + ", got " + describe_value(L, index));
+    return static_cast<std::size_t>(lua_rawlen(L, index));
+}
+
+/// Element `i` (1-based) of the list at `list` pushed on the stack, checked to be a table of at
+/// least `min_length` values; returns its length. Pops nothing (the caller pops).
+std::size_t push_element(lua_State* L, int list, std::size_t i, std::size_t min_length, const char* what,
+                         const char* expected) {
+    lua_rawgeti(L, list, static_cast<lua_Integer>(i));
+    const std::size_t length = lua_type(L, -1) == LUA_TTABLE ? static_cast<std::size_t>(lua_rawlen(L, -1)) : 0;
+    if (lua_type(L, -1) != LUA_TTABLE || length < min_length) {
+        const std::string got = lua_type(L, -1) == LUA_TTABLE ? "a table of " + std::to_string(length) + " values"
+                                                               : describe_value(L, -1);
+        throw InputError(std::string(what) + " " + std::to_string(i) + " must be " + expected + ", got " + got);
+    }
+    return length;
+}
+
+/// The vertices {{x, y, z}, ...} at stack index 2: finite numbers within float range, as the OBJ
+/// reader requires.
+void read_inline_vertices(lua_State* L, LoaderContext& ctx, std::size_t count, MeshData& mesh) {
+    for (std::size_t i = 1; i <= count; ++i) {
+        check_limits(ctx, i);
+        if (push_element(L, 2, i, 3, "vertex", "{x, y, z}") != 3)
+            throw InputError("vertex " + std::to_string(i) + " must be {x, y, z}, got a table of " +
+                             std::to_string(lua_rawlen(L, -1)) + " values");
+        glm::vec3 position(0.0f);
+        for (int axis = 0; axis < 3; ++axis) {
+            const int type = lua_rawgeti(L, -1, axis + 1);
+            const double value = lua_tonumber(L, -1);
+            lua_pop(L, 1);
+            const char* const names[] = {"x", "y", "z"};
+            if (type != LUA_TNUMBER || !std::isfinite(value) || std::fabs(value) > FLT_MAX)
+                throw InputError("vertex " + std::to_string(i) + ": " + names[axis] + " must be a finite number" +
+                                 (type == LUA_TNUMBER ? " within float range, got " + format_number(value)
+                                                      : std::string(", got ") + lua_typename(L, type)));
+            position[axis] = static_cast<float>(value);
         }
-        charge_memory(ctx, mesh_bytes(*data), "the mesh");
-        ctx.scene.meshes.push_back(std::move(data));
-        mesh = static_cast<int>(ctx.scene.meshes.size()) - 1;
-        ctx.mesh_cache.emplace(identity, mesh);
+        lua_pop(L, 1);
+        mesh.positions.push_back(position);
+    }
+}
+
+/// The mesh of gr.mesh's inline form (counts already checked and charged): the vertices at stack
+/// index 2, the faces at 3, each face fanned around its first corner.
+std::shared_ptr<MeshData> build_inline_mesh(lua_State* L, LoaderContext& ctx, std::size_t vertex_count,
+                                            std::size_t triangle_count, std::size_t face_count) {
+    auto mesh = std::make_shared<MeshData>();
+    mesh->positions.reserve(vertex_count);
+    mesh->triangles.reserve(triangle_count);
+    read_inline_vertices(L, ctx, vertex_count, *mesh);
+    std::vector<unsigned> corners;
+    for (std::size_t f = 1; f <= face_count; ++f) {
+        const std::size_t length = push_element(L, 3, f, 3, "face", "a list of at least 3 vertex indices");
+        corners.clear();
+        for (std::size_t k = 1; k <= length; ++k) {
+            check_limits(ctx, ++ctx.library_steps);
+            const int type = lua_rawgeti(L, -1, static_cast<lua_Integer>(k));
+            const double value = lua_tonumber(L, -1);
+            lua_pop(L, 1);
+            const auto where = [&] { return "face " + std::to_string(f) + ", index " + std::to_string(k); };
+            if (type != LUA_TNUMBER || value != std::floor(value))
+                throw InputError(where() + " must be a whole number, got " +
+                                 (type == LUA_TNUMBER ? format_number(value) : std::string(lua_typename(L, type))));
+            if (!(value >= 0.0 && value < static_cast<double>(vertex_count)))
+                throw InputError(where() + " is vertex " + format_number(value) + ", out of range (" +
+                                 (vertex_count ? "indices are 0-based: 0.." + std::to_string(vertex_count - 1)
+                                               : std::string("the vertex list is empty")) + ")");
+            corners.push_back(static_cast<unsigned>(value));
+        }
+        lua_pop(L, 1);
+        for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+            mesh->triangles.emplace_back(corners[0], corners[k], corners[k + 1]);
+    }
+    return mesh;
+}
+
+/// gr.mesh(name, {{x, y, z}, ...}, {{i, j, k, ...}, ...}): the course's inline form. Indices are
+/// 0-based; every face (3 or more corners, a convex planar polygon, counter-clockwise seen from
+/// outside) is fanned around its first corner, exactly as the OBJ reader fans a polygon, so the
+/// mesh is the one the same vertices and faces written as an OBJ file give (without a file path).
+int inline_mesh(lua_State* L, LoaderContext& ctx) {
+    note_location(L, ctx);  // a stop (time limit, cancel, watchdog) while the tables are read names this line
+    const std::size_t vertex_count = list_length(L, 2, "vertices", "{x, y, z}");
+    const std::size_t face_count = list_length(L, 3, "faces", "index lists {i, j, k, ...}");
+    if (face_count == 0) throw InputError("a mesh needs at least one face, got an empty face list");
+    if (vertex_count > 0xffffffffu) throw InputError("more vertices than 32-bit indices can address");
+    // Count the triangles first, so that the whole mesh is charged before any of it is made.
+    std::size_t triangle_count = 0;
+    for (std::size_t f = 1; f <= face_count; ++f) {
+        check_limits(ctx, f);
+        triangle_count += push_element(L, 3, f, 3, "face", "a list of at least 3 vertex indices") - 2;
+        lua_pop(L, 1);
+    }
+    const std::size_t bytes = sizeof(MeshData) + vertex_count * sizeof(glm::vec3) + triangle_count * sizeof(glm::uvec3);
+    charge_memory(ctx, bytes, "the mesh");
+    std::shared_ptr<MeshData> mesh;
+    try {
+        mesh = build_inline_mesh(L, ctx, vertex_count, triangle_count, face_count);
+    } catch (...) {
+        release_memory(ctx, bytes);  // a script that catches the error keeps its budget
+        throw;
+    }
+    release_memory(ctx, bytes);
+    charge_memory(ctx, mesh_bytes(*mesh), "the mesh");
+    return add_mesh(ctx, std::move(mesh));
+}
+
+CallResult gr_mesh(lua_State* L, LoaderContext& ctx) {
+    expect_arguments(L, 1, 2, 3, "name, 'file.obj' or name, {{x,y,z}, ...}, {{i,j,k,...}, ...}");
+    std::string name = string_arg(L, 1, "name");
+    int mesh = -1;
+    if (lua_gettop(L) == 3) {
+        mesh = inline_mesh(L, ctx);
+    } else {
+        if (lua_type(L, 2) == LUA_TTABLE)
+            throw InputError("the inline form needs vertices and faces: gr.mesh(name, {{x,y,z}, ...}, {{i,j,k,...}, ...})");
+        mesh = obj_mesh(ctx, string_arg(L, 2, "file name"));
     }
     const int index = add_node(ctx, NodeKind::mesh, std::move(name), caller_location(L));
     ctx.scene.nodes[index].mesh = mesh;
+    return CallResult::of(HandleKind::node, index);
+}
+
+/// The icosahedron of gr.isodecahedron: vertices (0, ±1, ±φ), (±1, ±φ, 0), (±φ, 0, ±1) with
+/// φ = 1.618 (not normalised); its 20 faces are the triples of mutually adjacent vertices (edge
+/// length² ≈ 4; the next distance² is 4φ² ≈ 10.5), each ordered counter-clockwise seen from outside.
+std::shared_ptr<MeshData> make_isodecahedron() {
+    const float phi = 1.618f;
+    auto mesh = std::make_shared<MeshData>();
+    for (const float a : {1.0f, -1.0f})
+        for (const float b : {phi, -phi}) {
+            mesh->positions.emplace_back(0.0f, a, b);
+            mesh->positions.emplace_back(a, b, 0.0f);
+            mesh->positions.emplace_back(b, 0.0f, a);
+        }
+    const auto adjacent = [&](unsigned i, unsigned j) {
+        const glm::vec3 d = mesh->positions[i] - mesh->positions[j];
+        return glm::dot(d, d) < 5.0f;
+    };
+    const unsigned count = static_cast<unsigned>(mesh->positions.size());
+    for (unsigned i = 0; i < count; ++i)
+        for (unsigned j = i + 1; j < count; ++j)
+            for (unsigned k = j + 1; k < count; ++k) {
+                if (!adjacent(i, j) || !adjacent(j, k) || !adjacent(i, k)) continue;
+                const glm::vec3 &a = mesh->positions[i], &b = mesh->positions[j], &c = mesh->positions[k];
+                const bool outward = glm::dot(glm::cross(b - a, c - a), a + b + c) > 0.0f;
+                mesh->triangles.emplace_back(i, outward ? j : k, outward ? k : j);
+            }
+    return mesh;
+}
+
+CallResult gr_isodecahedron(lua_State* L, LoaderContext& ctx) {
+    expect_arguments(L, 1, 1, 1, "name");
+    std::string name = string_arg(L, 1, "name");
+    if (ctx.isodecahedron_mesh < 0) {
+        std::shared_ptr<MeshData> mesh = make_isodecahedron();
+        charge_memory(ctx, mesh_bytes(*mesh), "the mesh");
+        ctx.isodecahedron_mesh = add_mesh(ctx, std::move(mesh));
+    }
+    const int index = add_node(ctx, NodeKind::mesh, std::move(name), caller_location(L));
+    ctx.scene.nodes[index].mesh = ctx.isodecahedron_mesh;
     return CallResult::of(HandleKind::node, index);
 }
 
@@ -225,6 +399,7 @@ const GrFunction node_function_table[] = {
     {"nh_sphere", guarded<gr_nh_sphere>},
     {"nh_box", guarded<gr_nh_box>},
     {"mesh", guarded<gr_mesh>},
+    {"isodecahedron", guarded<gr_isodecahedron>},
     {"union", guarded<gr_union>},
     {"intersection", guarded<gr_intersection>},
     {"difference", guarded<gr_difference>},

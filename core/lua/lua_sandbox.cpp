@@ -2,6 +2,8 @@
 // base (without dofile, loadfile, and __gc in setmetatable), table, string, math and utf8; io restricted to reading files under the scene's folder;
 // os.clock/time/date/getenv; debug.getinfo/traceback; text-only load; and the Lua 5.1 module
 // system the seed's scenes use (module, package.seeall, require of sibling and include/ files).
+// The other Lua 5.1 names (loadstring, unpack, math.random as 5.1 had it, ...) are in
+// lua_compat51.cpp.
 //
 // The C functions here are written in C style (no C++ object alive across a Lua call that may
 // raise); the little C++ they need runs in noexcept helpers that leave their answer in the context.
@@ -207,16 +209,6 @@ int setmetatable_without_gc(lua_State* L) {
     return lua_gettop(L);
 }
 
-int math_pow(lua_State* L) {
-    lua_pushnumber(L, std::pow(luaL_checknumber(L, 1), luaL_checknumber(L, 2)));
-    return 1;
-}
-
-int table_getn(lua_State* L) {
-    lua_pushinteger(L, luaL_len(L, 1));
-    return 1;
-}
-
 // ---- what the count hook cannot see ----
 
 /// debug.getinfo without the 'f' option: a script must never get hold of a function object from
@@ -365,7 +357,7 @@ void bound_library_calls(lua_State* L) {
     lua_pushcfunction(L, bounded_move);
     lua_setfield(L, -2, "move");
     lua_pop(L, 1);
-    for (const char* field : {"find", "match", "gmatch", "gsub", "rep"}) wrap_field(L, LUA_STRLIBNAME, field, noting_location);
+    for (const char* field : {"find", "match", "gmatch", "gfind", "gsub", "rep"}) wrap_field(L, LUA_STRLIBNAME, field, noting_location);
     wrap_field(L, LUA_TABLIBNAME, "concat", noting_location);
     lua_getglobal(L, LUA_DBLIBNAME);
     lua_getfield(L, -1, "getinfo");
@@ -551,27 +543,18 @@ int open_sandboxed_libraries(lua_State* L) {
     lua_setglobal(L, "loadfile");
     lua_getglobal(L, "load");
     lua_pushcclosure(L, load_text_only, 1);
-    lua_pushvalue(L, -1);
     lua_setglobal(L, "load");
-    lua_setglobal(L, "loadstring");  // Lua 5.1 name, same text-only loader
     lua_getglobal(L, "setmetatable");
     lua_pushcclosure(L, setmetatable_without_gc, 1);
     lua_setglobal(L, "setmetatable");
     set_field(L, LUA_STRLIBNAME, "dump", nullptr);
-
-    // Lua 5.1 names the seed's scripts may use.
-    lua_getglobal(L, LUA_TABLIBNAME);
-    lua_getfield(L, -1, "unpack");
-    lua_setglobal(L, "unpack");
-    lua_pop(L, 1);
-    set_field(L, LUA_TABLIBNAME, "getn", table_getn);
-    set_field(L, LUA_MATHLIBNAME, "pow", math_pow);
 
     restrict_io(L);
     keep_only(L, LUA_OSLIBNAME, luaopen_os, {"clock", "time", "date", "getenv"});
     keep_only(L, LUA_DBLIBNAME, luaopen_debug, {"getinfo", "traceback"});
     open_package(L);
     register_gr_api(L);
+    open_lua51_compat(L);  // before the wrapping below: string.gfind is wrapped too
     bound_library_calls(L);
     return 0;
 }

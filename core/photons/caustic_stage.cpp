@@ -2,6 +2,7 @@
 
 #include "core/render/random.h"
 #include "core/scene/source_location.h"
+#include "core/shading/texture.h"
 
 #include <chrono>
 #include <random>
@@ -15,6 +16,31 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 bool is_specular(const MaterialDesc& m) { return m.reflective || m.refractive_index.has_value() || m.air; }
 
+/// Whether the job wants a caustic map (and its projection maps).
+bool caustic_map_wanted(const RenderJob& job) {
+    const Options& o = job.options;
+    if (o.no_caustic_map || job.lights.empty()) return false;
+    if (o.caustic_num_photons <= 0 && !o.draw_caustic_prm) return false;
+    for (const NodeDesc& node : job.scene->nodes)
+        if (node.material >= 0 && is_specular(job.scene->materials[node.material])) return true;
+    return false;
+}
+
+/// Whether the job wants the classic GI map: it needs lights, not a specular object.
+bool gi_map_wanted(const RenderJob& job) {
+    const Options& o = job.options;
+    return o.integrator == IntegratorKind::classic && o.gi_wanted() && o.gi_num_photons > 0 && !job.lights.empty();
+}
+
+std::uint64_t stage_seed(const Options& o) {
+    return o.reproducible ? static_cast<std::uint64_t>(o.seed) : (static_cast<std::uint64_t>(o.seed) ^ std::random_device{}());
+}
+
+void build_progressive_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                             const std::atomic<bool>* cancel);
+void build_classic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                         const std::atomic<bool>* cancel, const TextureSet* textures);
+
 }  // namespace
 
 std::vector<Light> job_lights(const RenderJob& job) {
@@ -26,14 +52,7 @@ std::vector<Light> job_lights(const RenderJob& job) {
     return lights;
 }
 
-bool caustics_needed(const RenderJob& job) {
-    const Options& o = job.options;
-    if (o.no_caustic_map || job.lights.empty()) return false;
-    if (o.caustic_num_photons <= 0 && !o.draw_caustic_prm) return false;
-    for (const NodeDesc& node : job.scene->nodes)
-        if (node.material >= 0 && is_specular(job.scene->materials[node.material])) return true;
-    return false;
-}
+bool caustics_needed(const RenderJob& job) { return caustic_map_wanted(job) || gi_map_wanted(job); }
 
 std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_key) {
     const Options& o = job.options;
@@ -49,11 +68,27 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
     h = hash_double(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.draw_caustic_prm ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0));
     h = hash_double(h, static_cast<double>(o.seed));
     h = hash_double(h, o.max_depth);
+    h = hash_double(h, static_cast<double>(o.integrator));
+    if (o.integrator == IntegratorKind::classic) {
+        // The GI map, and whether the caustic map is off while the GI map is built.
+        h = hash_double(h, (o.gi_wanted() ? 1.0 : 0.0) + (o.no_caustic_map ? 2.0 : 0.0));
+        h = hash_double(h, static_cast<double>(o.gi_num_photons));
+    }
     return h | 1;  // never 0, which means "nothing built"
 }
 
 void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel) {
+                         const std::atomic<bool>* cancel, const TextureSet* textures) {
+    if (job.options.integrator == IntegratorKind::classic)
+        build_classic_stage(stage, scene, job, cancel, textures);
+    else
+        build_progressive_stage(stage, scene, job, cancel);
+}
+
+namespace {
+
+void build_progressive_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                             const std::atomic<bool>* cancel) {
     const Options& o = job.options;
     // The roulette needs P(diffuse) + P(specular) <= 1 where a surface is a mirror (seed 1.1.1).
     // A transparent material's kd is its medium colour, not a reflectance: it is not counted.
@@ -74,7 +109,7 @@ void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const Re
     settings.projection_map = o.projection_map;
     settings.projection_map_granularity = o.caustic_pm_gran;
     settings.emission = o.photon_random_emission ? PhotonEmission::random : PhotonEmission::low_discrepancy;
-    settings.seed = o.reproducible ? static_cast<std::uint64_t>(o.seed) : (static_cast<std::uint64_t>(o.seed) ^ std::random_device{}());
+    settings.seed = stage_seed(o);
     settings.max_depth = o.max_depth;
     PhotonPassResult pass = shoot_caustic_photons(scene, lights, settings, cancel);
     for (std::size_t l = 0; l < lights.size(); ++l) {
@@ -92,5 +127,59 @@ void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const Re
     if (o.caustic_num_photons > 0) stage.map = std::make_unique<PhotonMap>(std::move(pass.photons));
     stage.tree_seconds = seconds_since(t0);
 }
+
+void build_classic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                         const std::atomic<bool>* cancel, const TextureSet* textures) {
+    const Options& o = job.options;
+    stage = CausticStage{};
+    stage.key = caustic_fingerprint(job, 0);
+    // The photons see kd(uv) (A4): load the textures here when the session did not pass them.
+    std::unique_ptr<TextureSet> own_textures;
+    if (!textures) {
+        bool textured = false;
+        for (const MaterialDesc& m : job.scene->materials) textured |= m.texture >= 0;
+        if (textured) own_textures = std::make_unique<TextureSet>(*job.scene);
+        textures = own_textures.get();
+    }
+    if (textures && textures->empty()) textures = nullptr;
+    const bool caustic = caustic_map_wanted(job) && o.caustic_num_photons > 0;
+    const bool gi = gi_map_wanted(job);
+    const std::vector<Light> lights = job_lights(job);
+    ClassicPhotonSettings settings;
+    settings.caustic_photons = caustic ? o.caustic_num_photons : 0;
+    settings.gi_photons = gi ? o.gi_num_photons : 0;
+    settings.unit_distance = o.unit_distance;
+    settings.energy_fudge = o.energy_fudge;
+    settings.projection_map = o.projection_map;
+    settings.projection_map_granularity = o.caustic_pm_gran;
+    settings.build_projection_maps = caustic_map_wanted(job) && o.draw_caustic_prm;
+    settings.seed = stage_seed(o);
+    ClassicPhotonResult pass = shoot_classic_photons(scene, textures, lights, settings, cancel);
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const LightPhotonReport& c = pass.caustic_lights[l];
+        const LightPhotonReport& g = pass.gi_lights[l];
+        stage.lights.push_back({c.candidates, c.traced, c.stored, c.projection_map_used, c.occupied_fraction});
+        if (gi) stage.gi_lights.push_back({g.candidates, g.traced, g.stored, false, 1.0});
+        stage.map_seconds += c.map_seconds;
+        stage.shoot_seconds += c.shoot_seconds + g.shoot_seconds;
+        const std::string& warning = c.warning.empty() ? g.warning : c.warning;
+        if (!warning.empty())
+            stage.warnings.push_back(job.scene->lights[job.lights[l]].where.str() + ": gr.light: " + warning);
+        stage.light_positions.push_back(lights[l].position);
+    }
+    stage.projection_maps = std::move(pass.maps);
+    if (cancel && cancel->load()) return;  // a cancelled pass is thrown away: no trees for it
+    // A GI photon may be stored at every hit of its path: check what was stored before the trees
+    // double it.
+    const double stored = static_cast<double>(pass.caustic.size() + pass.gi.size());
+    check_photon_memory(stored, gi ? o.gi_num_photons : o.caustic_num_photons, 0.0,
+                        gi ? "--gi-num-photons" : "--caustic-num-photons");
+    const auto t0 = std::chrono::steady_clock::now();
+    if (caustic) stage.map = std::make_unique<PhotonMap>(std::move(pass.caustic));
+    if (gi) stage.gi_map = std::make_unique<PhotonMap>(std::move(pass.gi));
+    stage.tree_seconds = seconds_since(t0);
+}
+
+}  // namespace
 
 }  // namespace caustica

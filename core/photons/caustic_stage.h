@@ -1,7 +1,10 @@
-// The caustic stage of a render session: projection maps, photon shooting and the k-D tree,
-// cached by what they depend on (geometry, lights, photon count, unit distance, fudge, maps).
+// The photon stage of a render session: projection maps, photon shooting and the k-D trees,
+// cached by what they depend on (geometry, lights, photon counts, unit distance, fudge, maps,
+// integrator). The progressive integrator gets its caustic map (photon_tracer.*); the classic one
+// its caustic map and, with --gi, its GI map (classic_photons.*).
 #pragma once
 
+#include "core/photons/classic_photons.h"
 #include "core/photons/photon_map.h"
 #include "core/photons/photon_tracer.h"
 #include "core/geometry/render_scene.h"
@@ -19,27 +22,33 @@ namespace caustica {
 /// The lights a job renders with, as the renderer uses them.
 std::vector<Light> job_lights(const RenderJob& job);
 
-/// Whether a job needs the photon pass: photons requested, not disabled, lights present and at
-/// least one reflective or transparent material on a node (no specular object: no caustics).
+/// Whether a job needs the photon pass: lights present, and either caustic photons requested, not
+/// disabled, with at least one reflective or transparent material on a node (no specular object:
+/// no caustics), or (classic integrator) the GI map wanted with GI photons requested.
 bool caustics_needed(const RenderJob& job);
 
-/// Fingerprint of everything the photon map depends on (not N, the max distance or the camera).
+/// Fingerprint of everything the photon maps depend on (not N, the max distance or the camera):
+/// with the integrator, and for classic whether the GI map is wanted and its photon count.
 std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_key);
 
 /// The built stage.
 struct CausticStage {
     std::uint64_t key = 0;                   ///< caustic_fingerprint it was built for (0 = none)
-    std::unique_ptr<PhotonMap> map;          ///< null when the job has no caustics
+    std::unique_ptr<PhotonMap> map;          ///< the caustic map; null when the job has no caustics
+    std::unique_ptr<PhotonMap> gi_map;       ///< classic GI map; null unless gi_wanted()
     std::vector<ProjectionMap> projection_maps;
     std::vector<glm::vec3> light_positions;
-    std::vector<LightCausticStats> lights;
+    std::vector<LightCausticStats> lights;     ///< the caustic pass of each light
+    std::vector<LightCausticStats> gi_lights;  ///< the GI pass of each light (classic with GI only)
     std::vector<std::string> warnings;
     double map_seconds = 0.0, shoot_seconds = 0.0, tree_seconds = 0.0;
 };
 
-/// Builds the stage for a job (maps, photons, tree). Throws InputError for scene errors found
-/// on the way (kd + ks > 1 on a specular material, naming the material's line).
+/// Builds the stage for a job (maps, photons, trees) for job.options.integrator. Throws
+/// InputError for scene errors found on the way (progressive: kd + ks > 1 on a specular material,
+/// naming the material's line; the classic odds are cumulative and accept it). `textures` gives
+/// the classic photons kd(uv); when null and a material has a texture, the stage loads its own.
 void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel);
+                         const std::atomic<bool>* cancel, const TextureSet* textures = nullptr);
 
 }  // namespace caustica

@@ -1,6 +1,7 @@
 #include "core/photons/photon_kdtree.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace caustica {
 
@@ -109,6 +110,52 @@ std::uint32_t PhotonKdTree::nearest(const glm::vec3& query, std::uint32_t k, flo
         }
         // Resume at the nearest pending subtree still within reach.
         while (depth > 0 && stack[depth - 1].plane_distance2 >= radius2) --depth;
+        if (depth == 0) break;
+        node = stack[--depth].node;
+    }
+    return count;
+}
+
+std::uint32_t PhotonKdTree::nearest_always(const glm::vec3& query, std::uint32_t k, float prune_distance,
+                                           Neighbour* result) const {
+    if (nodes_.empty() || k == 0) return 0;
+    const float prune2 = prune_distance * prune_distance;
+    struct Pending {
+        std::uint32_t node;
+        float plane_distance2;
+    };
+    Pending stack[64];  // the tree is balanced: its depth is about log2(n / leaf_size) < 32
+    int depth = 0;
+    std::uint32_t count = 0;
+    // Subtrees farther than this are skipped: nothing until k are held, then the smaller of the
+    // prune distance and the farthest held.
+    float bound2 = std::numeric_limits<float>::infinity();
+    std::uint32_t node = 0;
+    for (;;) {
+        const Node& n = nodes_[node];
+        if (n.axis_or_leaf != leaf_tag) {
+            const float d = query[n.axis_or_leaf] - n.split;
+            const std::uint32_t near = d < 0.0f ? node + 1 : n.a;
+            const std::uint32_t far = d < 0.0f ? n.a : node + 1;
+            if (d * d < bound2) stack[depth++] = {far, d * d};
+            node = near;
+            continue;
+        }
+        for (std::uint32_t i = n.a; i < n.b; ++i) {
+            const glm::vec3 v = points_[i] - query;
+            const float d2 = glm::dot(v, v);
+            if (count < k) {
+                result[count++] = {d2, i};
+                std::push_heap(result, result + count);
+                if (count == k) bound2 = std::min(prune2, result[0].distance2);
+            } else if (d2 < result[0].distance2) {
+                std::pop_heap(result, result + k);
+                result[k - 1] = {d2, i};
+                std::push_heap(result, result + k);
+                bound2 = std::min(prune2, result[0].distance2);
+            }
+        }
+        while (depth > 0 && stack[depth - 1].plane_distance2 >= bound2) --depth;
         if (depth == 0) break;
         node = stack[--depth].node;
     }

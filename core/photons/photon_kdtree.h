@@ -32,6 +32,14 @@ public:
     /// order (the farthest is `result[0]`); returns how many were found. `result` must hold `k`.
     std::uint32_t nearest(const glm::vec3& query, std::uint32_t k, float max_distance, Neighbour* result) const;
 
+    /// The classic search (SEED_BEHAVIOUR.md B5): always finds min(k, size()) points, in heap order
+    /// (the farthest is `result[0]`). Nearer side first; while fewer than k are held every point
+    /// visited is taken however far; once k are held a point replaces the farthest held when
+    /// closer, and subtrees are pruned against min(prune_distance, farthest held). So the result is
+    /// the exact k nearest whenever they all lie within prune_distance. `result` must hold `k`.
+    std::uint32_t nearest_always(const glm::vec3& query, std::uint32_t k, float prune_distance,
+                                 Neighbour* result) const;
+
     /// The points in tree order.
     const std::vector<glm::vec3>& points() const { return points_; }
     /// For each tree position, the index the point had in the input.

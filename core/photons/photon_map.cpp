@@ -1,6 +1,10 @@
 #include "core/photons/photon_map.h"
 
+#include "core/util/radiance_range.h"
+
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace caustica {
 namespace {
@@ -39,6 +43,30 @@ glm::vec3 PhotonMap::estimate(const glm::vec3& p, const glm::vec3& n, int k, flo
         if (weight > 0.0f) sum += weight * photon.power;
     }
     return sum / ((1.0f - 2.0f / (3.0f * cone_k)) * pi * radius2);
+}
+
+ClassicEstimate PhotonMap::classic_estimate(const glm::vec3& p, int k, float prune_distance,
+                                            Neighbour* scratch) const {
+    ClassicEstimate e;
+    if (k <= 0) return e;
+    e.photons = tree_.nearest_always(p, static_cast<std::uint32_t>(k), prune_distance, scratch);
+    if (e.photons == 0) return e;
+    float radius2 = 0.0f;
+    glm::vec3 sum(0.0f);
+    for (std::uint32_t i = 0; i < e.photons; ++i) {
+        radius2 = std::max(radius2, scratch[i].distance2);
+        sum += photons_[scratch[i].index].power;
+    }
+    e.radius = std::sqrt(radius2);
+    if (radius2 > 0.0f) e.value = saturate(sum / (pi * radius2));  // photons a hair apart: no infinity
+    return e;
+}
+
+const Photon* PhotonMap::nearest_photon(const glm::vec3& p, float* distance) const {
+    Neighbour nearest;
+    if (tree_.nearest_always(p, 1, std::numeric_limits<float>::infinity(), &nearest) == 0) return nullptr;
+    if (distance) *distance = std::sqrt(nearest.distance2);
+    return &photons_[nearest.index];
 }
 
 }  // namespace caustica

@@ -22,6 +22,13 @@ enum class PhotonFilter {
     cone,  ///< Jensen's cone filter, k = 1.1: w = 1 - d / (k r), normalised by 1 - 2 / (3k)
 };
 
+/// What the classic estimate found (SEED_BEHAVIOUR.md B5).
+struct ClassicEstimate {
+    glm::vec3 value{0.0f};      ///< Sum(power) / (pi r^2), 0 without photons or when r = 0
+    std::uint32_t photons = 0;  ///< photons returned: min(k, size())
+    float radius = 0.0f;        ///< r: the largest distance among them
+};
+
 /// Photons in tree order with their k-D tree.
 class PhotonMap {
 public:
@@ -37,6 +44,15 @@ public:
     /// `scratch` must hold k entries.
     glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,
                        Neighbour* scratch) const;
+
+    /// The classic radiance estimate (B5): the power of the min(k, size()) photons that
+    /// PhotonKdTree::nearest_always returns, over pi r^2 with r the largest distance among them.
+    /// No filter, no side or normal test. `scratch` must hold k entries.
+    ClassicEstimate classic_estimate(const glm::vec3& p, int k, float prune_distance, Neighbour* scratch) const;
+
+    /// The photon nearest to `p` however far (null for an empty map); its distance goes to
+    /// `distance` when given. For the photon dot views (B6).
+    const Photon* nearest_photon(const glm::vec3& p, float* distance = nullptr) const;
 
     /// The photon at tree position i.
     const Photon& photon(std::size_t i) const { return photons_[i]; }

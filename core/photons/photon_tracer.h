@@ -68,8 +68,10 @@ RouletteOdds roulette_odds(const Material& m);
 double photon_memory_bound(double photons);
 
 /// Throws InputError when `photons` stored photons could not fit in `budget_bytes` (0 = 60% of
-/// the machine's memory). Called before anything is allocated for them.
-void check_photon_memory(double photons, long long requested, double budget_bytes);
+/// the machine's memory). Called before anything is allocated for them. `option` names the
+/// option that asked for `requested` photons in the message.
+void check_photon_memory(double photons, long long requested, double budget_bytes,
+                         const char* option = "--caustic-num-photons");
 
 /// Shoots the caustic photons of every light in parallel. Each photon has its own random stream
 /// keyed by (seed, light, photon index), so the result is the same for any thread count.

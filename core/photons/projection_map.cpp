@@ -41,7 +41,7 @@ double ProjectionMap::cell_solid_angle(int row) const {
     return (2.0 * pi / columns_) * (std::cos(theta0) - std::cos(theta1));
 }
 
-void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light) {
+void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light, bool (*target)(const Material&)) {
     std::vector<std::uint8_t> hits(cells_.size(), 0);
     const auto& materials = scene.materials();
     tbb::parallel_for(tbb::blocked_range<int>(0, rows_), [&](const tbb::blocked_range<int>& range) {
@@ -51,7 +51,8 @@ void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light) {
                 SurfaceHit hit;
                 if (!scene.intersect(Ray{light, cell_centre(row, column), 0.0f, ray_infinity}, hit)) continue;
                 const Material& m = materials[hit.material];
-                if (m.reflective || m.transparent) hits[static_cast<std::size_t>(row) * columns_ + column] = 1;
+                const bool is_target = target ? target(m) : (m.reflective || m.transparent);
+                if (is_target) hits[static_cast<std::size_t>(row) * columns_ + column] = 1;
             }
     });
     // Set the neighbours too, so that objects between sample directions are not missed (seed 1.1.2).

@@ -19,9 +19,10 @@ public:
     ProjectionMap() = default;
     explicit ProjectionMap(int granularity);
 
-    /// Shoots one ray per cell centre from `light`; sets cells whose first hit is a reflective or
-    /// transparent surface, and their eight neighbours. Runs in parallel.
-    void build(const RenderScene& scene, const glm::vec3& light);
+    /// Shoots one ray per cell centre from `light`; sets cells whose first hit is a target, and
+    /// their eight neighbours. Runs in parallel. Targets: reflective or transparent surfaces, or
+    /// the materials `target` accepts when given (the classic rule, classic_projection_target).
+    void build(const RenderScene& scene, const glm::vec3& light, bool (*target)(const Material&) = nullptr);
 
     /// Whether the cell containing a unit direction is set.
     bool occupied(const glm::vec3& direction) const { return cells_[cell_of(direction)] != 0; }

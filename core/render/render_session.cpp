@@ -153,7 +153,7 @@ void RenderSession::prepare_caustics() {
     }
     set_stage("shooting photons");
     auto fresh = std::make_unique<CausticStage>();
-    build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_);
+    build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_, textures_.get());
     fresh->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
     std::lock_guard lock(mutex_);  // published at once: the preview shows maps and counts early
     caustics_ = std::move(fresh);
@@ -247,6 +247,11 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     setup.ambient = glm::vec3(job_.ambient);
     setup.miss_colour = glm::vec3(job_.miss_colour);
     setup.sky = options.rays;
+    // A5: the sunburst's frame, right = view x up (up as written, normalised).
+    const glm::dvec3 view = glm::normalize(job_.camera.view), up = glm::normalize(job_.camera.up);
+    const glm::dvec3 right = glm::cross(view, up);
+    if (glm::length(right) > 0.0) setup.view_right = glm::vec3(glm::normalize(right));
+    setup.view_up = glm::vec3(up);
     setup.max_depth = options.max_depth;
     setup.min_weight = static_cast<float>(options.min_weight);
     setup.shadow_grid = options.shadow_grid;
@@ -254,33 +259,37 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     // The smallest unit distances are below float's normal range: keep the divisor positive.
     setup.unit_distance = std::max(static_cast<float>(options.unit_distance), std::numeric_limits<float>::min());
     setup.textures = textures_.get();
-    if (caustics_ && caustics_->map) {
-        setup.caustic_map = caustics_->map.get();
-        setup.caustic_neighbours = options.caustic_num_neighbours;
-        setup.caustic_max_distance = static_cast<float>(options.effective_caustic_max_dist());
-        setup.caustic_filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
-    }
+    setup.caustic_neighbours = options.caustic_num_neighbours;
+    setup.caustic_max_distance = static_cast<float>(options.effective_caustic_max_dist());
+    setup.caustic_filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
+    if (caustics_ && caustics_->map) setup.caustic_map = caustics_->map.get();
+    if (caustics_ && caustics_->gi_map) setup.gi_map = caustics_->gi_map.get();
+    setup.gi_neighbours = options.gi_num_neighbours;
     setup.draw_caustics_only = options.draw_caustics_only;
     setup.draw_caustic_map = options.draw_caustic_map;
+    setup.draw_gi_only = options.draw_gi_only;
+    setup.draw_gi_map = options.draw_gi_map;
     setup.dot_radius_per_distance =
         static_cast<float>(std::tan(glm::radians(job_.camera.fovy_degrees) * 0.5) * 2.0 / height);
     if (options.draw_caustic_prm && caustics_)
         for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
             if (!caustics_->projection_maps[l].empty())
                 setup.projection_maps.emplace_back(&caustics_->projection_maps[l], caustics_->light_positions[l]);
-    const Integrator integrator(setup);
+    const std::unique_ptr<Integrator> integrator = make_integrator(options.integrator, setup);
 
     TileContext context;
-    context.integrator = &integrator;
+    context.integrator = integrator.get();
     context.camera = &camera;
     context.seed = options.reproducible ? static_cast<std::uint64_t>(options.seed)
                                         : (static_cast<std::uint64_t>(options.seed) ^ std::random_device{}());
-    context.aa_grid = options.aa_grid;
+    context.aa_grid = options.disable_aa ? 1 : options.aa_grid;
     context.aa_threshold = static_cast<float>(options.aa_threshold);
     context.draw_aa = options.draw_aa;
 
     const std::vector<Tile>& tiles = tiles_;
-    const bool antialias = !options.disable_aa && options.aa_grid > 1;
+    refine_.assign(static_cast<std::size_t>(width) * height, 0);
+    context.refine = &refine_;
+    const bool antialias = has_antialiasing_pass(context);
     {
         std::lock_guard lock(mutex_);
         progress_.passes = (antialias ? 2 : 1) + (progressive_ ? 1 : 0);

@@ -44,28 +44,81 @@ void render_coarse_tile(const TileContext& context, const Tile& tile, int block,
     }
 }
 
+bool has_antialiasing_pass(const TileContext& context) {
+    if (context.integrator->pixel_sampling() == PixelSampling::corner_grid) return context.aa_grid > 2;
+    return context.aa_grid > 1;
+}
+
+float corner_difference(const glm::vec3 corners[4]) {
+    float delta = 0.0f;
+    for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+            const glm::vec3 d = corners[i] - corners[j];
+            delta += glm::dot(d, d);
+        }
+    return delta;
+}
+
+namespace {
+
+/// Traces, for up to 8 pixels of a row, one sample each at the offset (ox, oy) inside the pixel.
+void trace_row8(const TileContext& context, int x, int x_end, int y, float ox, float oy, int pass, int width,
+                glm::vec3* out, RayCounters& counters) {
+    Ray rays[8];
+    int valid[8];
+    RandomStream streams[8] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}};
+    for (int i = 0; i < 8; ++i) {
+        valid[i] = x + i < x_end;
+        rays[i] = context.camera->generate(static_cast<float>(x + i) + ox, static_cast<float>(y) + oy);
+        // One stream per pixel and pass: the result never depends on which thread runs the tile.
+        streams[i] = RandomStream(context.seed, static_cast<std::uint64_t>(y) * width + x + i, pass);
+    }
+    context.integrator->trace_camera_rays8(rays, valid, streams, out, counters);
+    for (int i = 0; i < 8; ++i) counters.samples += valid[i] ? 1 : 0;
+}
+
+}  // namespace
+
 void render_first_pass_tile(const TileContext& context, const Tile& tile, Image& out, RayCounters& counters) {
+    const bool corners = context.integrator->pixel_sampling() == PixelSampling::corner_grid;
+    const int g = corners ? std::max(context.aa_grid, 1) : 1;
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; x += 8) {
-            Ray rays[8];
-            int valid[8];
-            SurfaceHit hits[8];
-            bool found[8];
-            for (int i = 0; i < 8; ++i) {
-                valid[i] = x + i < tile.x1;
-                rays[i] = context.camera->generate(static_cast<float>(x + i) + 0.5f, static_cast<float>(y) + 0.5f);
+            const int count = std::min(8, tile.x1 - x);
+            if (!corners) {
+                glm::vec3 c[8];
+                trace_row8(context, x, tile.x1, y, 0.5f, 0.5f, 0, out.width, c, counters);
+                for (int i = 0; i < count; ++i) {
+                    out.at(x + i, y) = c[i];
+                    check_pixel(c[i], x + i, y);
+                }
+                continue;
             }
-            context.integrator->scene_intersect8(rays, valid, hits, found);
-            float visibility[8][Integrator::packet_lights];
-            context.integrator->primary_visibility8(rays, hits, found, visibility, counters);
-            for (int i = 0; i < 8 && valid[i]; ++i) {
-                // One stream per pixel and pass: the result never depends on which thread runs the tile.
-                RandomStream random(context.seed, static_cast<std::uint64_t>(y) * out.width + x + i, 0);
-                out.at(x + i, y) = found[i] ? context.integrator->shade_primary_hit(rays[i], hits[i], random, counters, visibility[i])
-                                            : context.integrator->background(rays[i].direction);
-                if (!found[i]) ++counters.primary;
-                ++counters.samples;
+            // B3: the whole regular grid when g <= 2, else its four corner samples.
+            const float cell = 1.0f / static_cast<float>(g);
+            glm::vec3 sum[8] = {};
+            glm::vec3 corner[8][4];
+            int k = 0;
+            for (int sy = 0; sy < g; ++sy) {
+                for (int sx = 0; sx < g; ++sx) {
+                    const bool is_corner = (sx == 0 || sx == g - 1) && (sy == 0 || sy == g - 1);
+                    if (g > 2 && !is_corner) continue;
+                    glm::vec3 c[8];
+                    trace_row8(context, x, tile.x1, y, (static_cast<float>(sx) + 0.5f) * cell,
+                               (static_cast<float>(sy) + 0.5f) * cell, 0, out.width, c, counters);
+                    for (int i = 0; i < count; ++i) {
+                        sum[i] += c[i];
+                        if (k < 4) corner[i][k] = c[i];
+                    }
+                    ++k;
+                }
+            }
+            for (int i = 0; i < count; ++i) {
+                out.at(x + i, y) = sum[i] / static_cast<float>(k);
                 check_pixel(out.at(x + i, y), x + i, y);
+                if (g > 2 && context.refine)
+                    (*context.refine)[static_cast<std::size_t>(y) * out.width + x + i] =
+                        corner_difference(corner[i]) > context.aa_threshold;
             }
         }
     }
@@ -86,23 +139,36 @@ bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold) 
 
 void render_antialiasing_tile(const TileContext& context, const Tile& tile, const Image& first_pass, Image& out,
                               RayCounters& counters) {
+    const bool corners = context.integrator->pixel_sampling() == PixelSampling::corner_grid;
     const int n = context.aa_grid;
     const float cell = 1.0f / static_cast<float>(n);
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
-            if (!needs_antialiasing(first_pass, x, y, context.aa_threshold)) continue;
+            const bool refine = corners ? context.refine && (*context.refine)[static_cast<std::size_t>(y) * first_pass.width + x]
+                                        : needs_antialiasing(first_pass, x, y, context.aa_threshold);
+            if (!refine) continue;
             ++counters.supersampled_pixels;
             if (context.draw_aa) {
                 out.at(x, y) = glm::vec3(1.0f, 0.0f, 0.0f);
                 continue;
             }
             RandomStream random(context.seed, static_cast<std::uint64_t>(y) * first_pass.width + x, 1);
-            glm::vec3 sum(0.0f);
+            // corner_grid: the four corners are in the first pass's mean already.
+            glm::vec3 sum = corners ? 4.0f * first_pass.at(x, y) : glm::vec3(0.0f);
             for (int sy = 0; sy < n; ++sy) {
                 for (int sx = 0; sx < n; ++sx) {
-                    const float px = static_cast<float>(x) + (static_cast<float>(sx) + random.uniform()) * cell;
-                    const float py = static_cast<float>(y) + (static_cast<float>(sy) + random.uniform()) * cell;
-                    sum += context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
+                    float ox, oy;
+                    if (corners) {
+                        if ((sx == 0 || sx == n - 1) && (sy == 0 || sy == n - 1)) continue;
+                        ox = (static_cast<float>(sx) + 0.5f) * cell;
+                        oy = (static_cast<float>(sy) + 0.5f) * cell;
+                    } else {
+                        ox = (static_cast<float>(sx) + random.uniform()) * cell;
+                        oy = (static_cast<float>(sy) + random.uniform()) * cell;
+                    }
+                    sum += context.integrator->trace_camera_ray(
+                        context.camera->generate(static_cast<float>(x) + ox, static_cast<float>(y) + oy), random,
+                        counters);
                     ++counters.samples;
                 }
             }

@@ -26,19 +26,31 @@ struct TileContext {
     int aa_grid = 3;
     float aa_threshold = 0.5f;
     bool draw_aa = false;
+    /// corner_grid sampling: per pixel, whether its four corner samples differ by more than the
+    /// threshold (written by the first pass, read by the anti-aliasing pass; width x height).
+    std::vector<std::uint8_t>* refine = nullptr;
 };
+
+/// Whether the image needs the anti-aliasing pass after the first one.
+bool has_antialiasing_pass(const TileContext& context);
 
 /// One sample per `block` x `block` square (at its centre), filling the whole square: a fast preview.
 void render_coarse_tile(const TileContext& context, const Tile& tile, int block, Image& out, RayCounters& counters);
 
-/// One sample through each pixel centre, 8 pixels per packet.
+/// The first samples of each pixel, 8 pixels per packet: one through the pixel centre
+/// (adaptive_neighbours), or B3's grid or its four corners (corner_grid).
 void render_first_pass_tile(const TileContext& context, const Tile& tile, Image& out, RayCounters& counters);
 
-/// Whether pixel (x, y) differs from a neighbour by more than the threshold (sum of |RGB|
-/// differences of the clamped colours).
+/// adaptive_neighbours: whether pixel (x, y) differs from a neighbour by more than the threshold
+/// (sum of |RGB| differences of the clamped colours).
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold);
 
-/// Replaces pixels that need it by the mean of an N x N jittered grid of samples.
+/// B3's difference of the four corner samples of a pixel: the sum over the 6 pairs of the
+/// squared RGB differences (unclamped).
+float corner_difference(const glm::vec3 corners[4]);
+
+/// Replaces pixels that need it by the mean of all N x N samples (jittered for
+/// adaptive_neighbours, the regular grid for corner_grid); --draw-aa paints them red.
 void render_antialiasing_tile(const TileContext& context, const Tile& tile, const Image& first_pass, Image& out,
                               RayCounters& counters);
 

@@ -14,6 +14,10 @@ glm::dvec3 unit(const glm::dvec3& v) {
 
 }  // namespace
 
+double vertical_fov_degrees(const CameraDesc& desc, int width, int height) {
+    return desc.fovy_degrees * static_cast<double>(height) / static_cast<double>(width);
+}
+
 Camera::Camera(const CameraDesc& desc, int width, int height) : width_(width), height_(height) {
     const glm::dvec3 forward = unit(desc.view);
     const glm::dvec3 right = glm::normalize(glm::cross(forward, unit(desc.up)));
@@ -22,7 +26,8 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : width_(width), h
     forward_ = glm::vec3(forward);
     right_ = glm::vec3(right);
     up_ = glm::vec3(up);
-    const double half_height = std::tan(glm::radians(desc.fovy_degrees) * 0.5);
+    // Up only fixes the roll: the image plane stays perpendicular to the view direction.
+    const double half_height = std::tan(glm::radians(vertical_fov_degrees(desc, width, height)) * 0.5);
     half_height_ = static_cast<float>(half_height);
     half_width_ = static_cast<float>(half_height * width / height);
 }

@@ -1,10 +1,15 @@
-// The course's pinhole camera: eye, view direction, up vector, vertical field of view.
+// The course's pinhole camera: eye, view direction, up vector, and gr.render's field of view,
+// which is the horizontal angle (SEED_BEHAVIOUR A7).
 #pragma once
 
 #include "core/geometry/ray.h"
 #include "core/scene/scene_desc.h"
 
 namespace caustica {
+
+/// The vertical field of view of a width x height image, in degrees: gr.render's angle is the
+/// horizontal one and fov_y = fov_x / aspect, aspect = width / height (A7).
+double vertical_fov_degrees(const CameraDesc& desc, int width, int height);
 
 /// Generates primary rays through pixel positions (x right, y down, pixel centres at +0.5).
 class Camera {

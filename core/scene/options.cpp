@@ -21,7 +21,6 @@ struct OptionSpec {
     const char* help;
     std::function<void(Options&, const std::string&)> set;   ///< value is "" for flags
     std::function<std::string(const Options&)> get;         ///< current value as text
-    bool refused = false;    ///< known but not available (the --gi family)
 };
 
 std::string format_double(double v) {
@@ -95,19 +94,6 @@ OptionSpec resolution(std::string name, const char* help, int size) {
             [size](const Options& o) { return std::string(o.resolution_override == size ? "on" : "off"); }};
 }
 
-OptionSpec refused(std::string name, const char* value_name, const char* help) {
-    std::string n = name;
-    OptionSpec s{std::move(name), 0, value_name, "global illumination (not available yet)", help,
-                 [n](Options&, const std::string&) {
-                     throw InputError("--" + n +
-                                      ": the global-illumination photon map is not implemented yet; "
-                                      "remove this option");
-                 },
-                 [](const Options&) { return std::string("off"); }};
-    s.refused = true;
-    return s;
-}
-
 /// A --quality preset: option tokens chosen from bench/trade's error/time curves (docs/ACCURACY.md).
 /// The gather distance returns to its default, 0.15 x unit distance, so it follows the scene's unit.
 struct QualityPreset {
@@ -152,6 +138,16 @@ std::string matching_quality_preset(const Options& o) {
 const std::vector<OptionSpec>& option_table() {
     constexpr double huge = 1e30;
     static const std::vector<OptionSpec> table = {
+        {"integrator", 0, "classic|progressive", "transport",
+         "classic: the original renderer's rules (SEED_BEHAVIOUR.md Part B); progressive: our photon mapper",
+         [](Options& o, const std::string& v) {
+             if (v == "classic") o.integrator = IntegratorKind::classic;
+             else if (v == "progressive") o.integrator = IntegratorKind::progressive;
+             else throw InputError("--integrator: expected classic or progressive, got '" + v + "'");
+         },
+         [](const Options& o) {
+             return std::string(o.integrator == IntegratorKind::classic ? "classic" : "progressive");
+         }},
         flag("a4", 0, "conventions", "course (CS488 A4) conventions: transforms in call order, unit cube [0,1]^3",
              &Options::a4),
         flag("timing", 't', "reporting", "print per-stage times", &Options::timing),
@@ -182,7 +178,7 @@ const std::vector<OptionSpec>& option_table() {
         flag("no-soft-shadows", 0, "lights", "treat spherical lights as points", &Options::no_soft_shadows),
         integer("shadow-grid", 0, "lights", "soft shadows: N x N samples on a spherical light", &Options::shadow_grid, 1,
                 64),
-        flag("rays", 0, "output", "sky background instead of the miss colour", &Options::rays),
+        flag("rays", 0, "output", "orange sunburst background instead of the miss colour", &Options::rays),
         flag("srgb", 0, "output", "encode sRGB in the PNG (default: clamped linear, as the seed)", &Options::srgb),
         resolution("minres", "render at 100 x 100", 100),
         resolution("lores", "render at 256 x 256", 256),
@@ -239,11 +235,17 @@ const std::vector<OptionSpec>& option_table() {
              &Options::draw_caustic_prm),
         flag("draw-caustics-only", 0, "debug views", "show only the caustic radiance", &Options::draw_caustics_only),
         flag("no-caustic-map", 0, "caustics", "no caustic photon map at all", &Options::no_caustic_map),
-        refused("gi", nullptr, "global illumination photon map"),
-        refused("draw-gi-map", nullptr, "show the global-illumination photons"),
-        refused("draw-gi-only", nullptr, "show only global illumination"),
-        refused("gi-num-photons", "N", "photons for the global-illumination map"),
-        refused("gi-num-neighbours", "N", "photons in each global-illumination estimate"),
+        flag("gi", 0, "global illumination", "global-illumination photon map: replaces the ambient term (classic)",
+             &Options::gi),
+        integer("gi-num-photons", 0, "global illumination", "photons shot per light for the GI map",
+                &Options::gi_num_photons, 0, 100'000'000'000LL),
+        integer("gi-num-neighbours", 0, "global illumination", "photons in each GI estimate",
+                &Options::gi_num_neighbours, 1, 1'000'000,
+                "every render thread keeps a search buffer of N photons, and an estimate over more than a "
+                "million photons is a blur"),
+        flag("draw-gi-map", 0, "debug views", "show the stored GI photons as dots (turns --gi on)",
+             &Options::draw_gi_map),
+        flag("draw-gi-only", 0, "debug views", "show only the GI estimate (turns --gi on)", &Options::draw_gi_only),
     };
     return table;
 }
@@ -372,7 +374,7 @@ std::string options_help() {
             out << "  " << names;
             for (size_t pad = names.size(); pad < 30; ++pad) out << ' ';
             out << ' ' << spec.help;
-            if (spec.value_name && !spec.refused) out << " [" << spec.get(defaults) << "]";
+            if (spec.value_name) out << " [" << spec.get(defaults) << "]";
             out << '\n';
         }
     }

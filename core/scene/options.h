@@ -10,6 +10,12 @@ namespace caustica {
 /// How projection maps are used when shooting caustic photons.
 enum class ProjectionMapMode { automatic, on, off };
 
+/// Which light transport renders the image (SEED_BEHAVIOUR.md Part B, or our own).
+enum class IntegratorKind {
+    classic,      ///< the original renderer's rules, rule for rule (the default)
+    progressive,  ///< our physically motivated photon mapper
+};
+
 /// Every option of SCENE_API.md plus ours, with the seed's defaults.
 struct Options {
     // conventions and reporting
@@ -30,7 +36,10 @@ struct Options {
     bool no_caustic_map = false;
     bool no_soft_shadows = false;
     bool reproducible = false;     ///< fixed random streams: identical output for any thread count
-    bool rays = false;             ///< sky background instead of the miss colour
+    bool rays = false;             ///< orange sunburst background instead of the miss colour
+    bool gi = false;               ///< global-illumination photon map (classic)
+    bool draw_gi_map = false;      ///< GI photons as dots (implies the GI map)
+    bool draw_gi_only = false;     ///< only the GI estimate (implies the GI map)
     bool srgb = false;             ///< encode sRGB in the PNG (default: clamp, linear, as the seed)
     int resolution_override = 0;   ///< --minres/--lores/--midres/--hires: square size, 0 = as scripted
     // values
@@ -38,7 +47,10 @@ struct Options {
     int aa_grid = 3;
     double aa_threshold = 0.5;
     long long caustic_num_photons = 0;
-    int caustic_num_neighbours = 100;
+    int caustic_num_neighbours = 5;
+    long long gi_num_photons = 1'000'000;
+    int gi_num_neighbours = 100;
+    IntegratorKind integrator = IntegratorKind::classic;
     int caustic_pm_gran = 180;
     double caustic_max_dist = -1.0;  ///< < 0: 0.15 x unit distance
     ProjectionMapMode projection_map = ProjectionMapMode::automatic;
@@ -57,6 +69,9 @@ struct Options {
     double effective_caustic_max_dist() const {
         return caustic_max_dist < 0.0 ? 0.15 * unit_distance : caustic_max_dist;
     }
+
+    /// Whether the GI photon map is wanted (--gi or one of its debug views).
+    bool gi_wanted() const { return gi || draw_gi_map || draw_gi_only; }
 };
 
 /// Applies command-line style tokens ("--aa-grid", "4", "-S", "--threads=2") to `options`.

@@ -120,7 +120,7 @@ struct RenderJob {
     CameraDesc camera;
     glm::dvec3 ambient{0.0};
     std::vector<int> lights;             ///< indices into SceneDesc::lights
-    glm::dvec3 miss_colour{0.0};
+    glm::dvec3 miss_colour{1.0};         ///< SEED_BEHAVIOUR.md A5: white unless gr.set_miss_colour
     Options options;                     ///< defaults + gr.option calls made before this render
     SourceLocation where;
     /// Long option names ("caustic-num-photons") with the gr.option call that set them, in call

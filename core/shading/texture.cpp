@@ -11,9 +11,9 @@
 namespace caustica {
 namespace {
 
-/// Height of a white texel of a PNG bump map, in texture units (a fraction of the image's size):
-/// height = luminance / 32 (docs/TEXTURES.md, "Bump maps").
-constexpr float bump_image_depth = 1.0f / 32.0f;
+/// How far a PNG bump map tilts the normal: n' = normalise(n + 5 g_x U + 5 g_y V), g in intensity
+/// per pixel (SEED_BEHAVIOUR A4).
+constexpr float bump_image_strength = 5.0f;
 
 /// One texture or bump map of the scene, ready to be looked up.
 struct Source {
@@ -118,21 +118,22 @@ glm::vec3 TextureSet::diffuse(int material, const SurfaceHit& hit, const glm::ve
     if (!binding || !binding->texture) return kd;
     const Source& source = *binding->texture;
     const TextureLookup lookup = texture_lookup(hit, source.remap);
-    if (!lookup.covered) return kd;
+    if (!lookup.covered) return glm::vec3(0.0f);  // outside a remap's window: black, not kd
     if (source.kind == Source::Kind::checker) return checker(source.checker_colour, lookup.uv);
-    return source.image->colour(lookup.uv, lookup.window);
+    return source.image->colour(lookup.uv);
 }
 
 glm::vec3 TextureSet::shading_normal(int material, const SurfaceHit& hit, const glm::vec3& normal) const {
     const Impl::Binding* binding = impl_->binding(material);
     if (!binding || !binding->bumpmap) return normal;
+    if (hit.shape_kind < 0) return normal;  // meshes have no tangents (SEED_BEHAVIOUR A2)
     const Source& source = *binding->bumpmap;
     const TextureLookup lookup = texture_lookup(hit, source.remap);
     if (!lookup.covered) return normal;
-    const glm::vec2 gradient = source.kind == Source::Kind::ripple
-                                   ? ripple_gradient(lookup.uv)
-                                   : bump_image_depth * source.image->height_gradient(lookup.uv, lookup.window);
-    return bump_normal(hit, normal, gradient, lookup.jacobian);
+    const glm::vec2 perturbation = source.kind == Source::Kind::ripple
+                                       ? ripple_perturbation(lookup.uv)
+                                       : bump_image_strength * source.image->bump_gradient(lookup.uv);
+    return bump_normal(hit, normal, perturbation);
 }
 
 }  // namespace caustica

@@ -17,7 +17,8 @@ public:
     explicit TextureSet(const SceneDesc& scene);
     ~TextureSet();
 
-    /// The diffuse colour at a hit: `kd` itself, or the material's texture there.
+    /// The diffuse colour at a hit: `kd` itself, or the material's texture there (black outside
+    /// the texture's remap window: the texture replaces kd everywhere).
     glm::vec3 diffuse(int material, const SurfaceHit& hit, const glm::vec3& kd) const;
 
     /// The shading normal at a hit: `normal` itself, or perturbed by the material's bump map.

@@ -1,4 +1,4 @@
-// Bump mapping: the shading normal of a surface displaced along its normal by a height field.
+// Bump mapping as the original renderer did it: the normal tilted along the surface tangents.
 #pragma once
 
 #include "core/geometry/ray.h"
@@ -7,13 +7,10 @@
 
 namespace caustica {
 
-/// Blinn's bump mapping. The surface is displaced outward by d = L * H, where H is the height
-/// field in texture units and L = sqrt(|dp/du' x dp/dv'|) is the local size of one unit of
-/// texture space (u', v' = the texture coordinates), so bumps keep their shape when the object
-/// is scaled. `gradient` is (dH/du', dH/dv'); `jacobian` is d(u',v')/d(hit.uv) (TextureLookup).
-/// The result is n' = normalize(n - grad_s d), grad_s the surface gradient built from hit.dpdu
-/// and hit.dpdv; it faces the same side as `normal`. A singular frame (zero tangents or
-/// Jacobian) leaves `normal` unchanged.
-glm::vec3 bump_normal(const SurfaceHit& hit, const glm::vec3& normal, glm::vec2 gradient, const glm::mat2& jacobian);
+/// n' = normalise(n + p_u U + p_v V) (SEED_BEHAVIOUR A4), n the outward normal, U and V the
+/// hit's tangents (hit.dpdu, hit.dpdv) at unit length; a zero tangent adds nothing. `normal` is
+/// unit length and may face either side: the tilt is applied to the outward normal and the
+/// result faces the same side as `normal`.
+glm::vec3 bump_normal(const SurfaceHit& hit, const glm::vec3& normal, glm::vec2 perturbation);
 
 }  // namespace caustica

@@ -1,5 +1,5 @@
-// Image textures: PNG texels as linear RGB, bilinear lookups, and the process-wide image cache.
-// The rules (colour handling, filtering, wrap and clamp) are written out in docs/TEXTURES.md.
+// Image textures: PNG texels as linear RGB, nearest-texel lookups, the bump-map gradient, and the
+// process-wide image cache. The rules are in docs/TEXTURES.md (SEED_BEHAVIOUR A4).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -12,23 +12,21 @@ namespace caustica {
 
 struct Png8;
 
-/// A rectangle of texture space [lo, hi] that a lookup must not leave (one cell of the cube
-/// unwrap), so that bilinear filtering never blends in a neighbouring cell. The default is
-/// the whole image; u wraps around only when the window spans the full width.
-struct TextureWindow {
-    glm::vec2 lo{0.0f};
-    glm::vec2 hi{1.0f};
+/// One texel of an image: column from the left, row from the top.
+struct TexelIndex {
+    int column = 0, row = 0;
 };
 
-/// An image texture: linear RGB texels and their luminance (the height of a bump map).
-/// Texture space: u = 0 at the left edge, v = 0 at the top edge, u = v = 1 at the far edges.
+/// An image texture: linear RGB texels and their intensity (the luma of a bump map).
+/// Texture space: u = 0 at the left edge, u = 1 at the right edge, v = 0 at the bottom row,
+/// v = 1 at the top row.
 class TextureImage {
 public:
     /// Wraps texels given in linear RGB, row-major, top row first.
     TextureImage(int width, int height, std::vector<glm::vec3> texels);
 
-    /// Converts a PNG: each 8-bit value b becomes b / 255, without any gamma curve (the seed's
-    /// convention); gray images give r = g = b; alpha is ignored.
+    /// Converts a decoded PNG: each 8-bit value b becomes b / 255, without any gamma curve;
+    /// grey (with or without alpha) gives r = g = b; alpha is ignored.
     static TextureImage from_png(const Png8& png);
 
     /// Image width in texels.
@@ -38,27 +36,27 @@ public:
     /// The texel at column x, row y (row 0 is the top row).
     glm::vec3 texel(int x, int y) const { return texels_[index(x, y)]; }
 
-    /// Bilinearly filtered colour at (u, v): u wraps around, v is clamped to the edge texels.
-    glm::vec3 colour(glm::vec2 uv, const TextureWindow& window = {}) const;
+    /// The texel a lookup at (u, v) reads: column = floor(clamp(u W, 0, W - 1)),
+    /// row = floor(clamp((1 - v) H, 0, H - 1)) (nearest, clamped, no wrap). NaN reads texel (0, 0).
+    TexelIndex nearest(glm::vec2 uv) const;
 
-    /// Bilinearly filtered luminance (Rec. 709 weights on linear RGB) at (u, v), same rules.
-    float height(glm::vec2 uv, const TextureWindow& window = {}) const;
+    /// The colour of the nearest texel at (u, v).
+    glm::vec3 colour(glm::vec2 uv) const;
 
-    /// Gradient (dh/du, dh/dv) of `height` by central differences one texel either side.
-    glm::vec2 height_gradient(glm::vec2 uv, const TextureWindow& window = {}) const;
+    /// The bump-map gradient at the nearest texel, in intensity per pixel: g_x = (I(col + 1) -
+    /// I(col - 1)) / 2, g_y = (I(row - 1) - I(row + 1)) / 2 (towards +u and +v), one-sided
+    /// (I(next) - I(here)) at the image's borders and zero across a single row or column.
+    glm::vec2 bump_gradient(glm::vec2 uv) const;
+
+    /// Intensity of the texel at column x, row y: the luma 0.299 r + 0.587 g + 0.114 b.
+    float intensity(int x, int y) const { return intensity_[index(x, y)]; }
 
 private:
-    /// The four texels around (u, v) and their bilinear weights.
-    struct Footprint {
-        int index[4];
-        float weight[4];
-    };
-    Footprint footprint(glm::vec2 uv, const TextureWindow& window) const;
     std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width_ + x; }
 
     int width_ = 0, height_ = 0;
     std::vector<glm::vec3> texels_;
-    std::vector<float> luminance_;
+    std::vector<float> intensity_;
 };
 
 /// Loads a PNG texture through a process-wide cache keyed by absolute path: every caller (any

@@ -1,0 +1,233 @@
+#include "core/integrators/progressive.h"
+
+#include "core/shading/optics.h"
+#include "core/util/radiance_range.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+namespace caustica {
+namespace {
+
+float max_component(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
+
+/// Maps a point of the unit square to the unit disc, preserving area and strata (Shirley-Chiu).
+glm::vec2 concentric_disc(float u, float v) {
+    const float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
+    if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
+    constexpr float quarter_pi = 0.78539816339744831f;
+    if (std::fabs(a) > std::fabs(b)) return a * glm::vec2(std::cos(quarter_pi * b / a), std::sin(quarter_pi * b / a));
+    return b * glm::vec2(std::cos(2.0f * quarter_pi - quarter_pi * a / b), std::sin(2.0f * quarter_pi - quarter_pi * a / b));
+}
+
+}  // namespace
+
+glm::vec3 ProgressiveIntegrator::trace_camera_ray(const Ray& ray, RandomStream& random, RayCounters& counters) const {
+    ++counters.primary;
+    return trace(ray, PathState{}, random, counters);
+}
+
+void ProgressiveIntegrator::trace_camera_rays8(const Ray* rays, const int* valid, RandomStream* streams,
+                                               glm::vec3* out, RayCounters& counters) const {
+    SurfaceHit hits[8];
+    bool found[8];
+    setup_.scene->intersect8(rays, valid, hits, found);
+    float visibility[8][packet_lights];
+    primary_visibility8(setup_, rays, hits, found, true, false, visibility, counters);
+    for (int i = 0; i < 8; ++i) {
+        if (!valid[i]) continue;
+        ++counters.primary;
+        if (!found[i]) {
+            out[i] = background(rays[i].direction);
+            continue;
+        }
+        PathState path;
+        path.known_visibility = visibility[i];
+        out[i] = shade(rays[i], hits[i], path, streams[i], counters);
+    }
+}
+
+float ProgressiveIntegrator::medium_index(int material) const {
+    return material < 0 ? 1.0f : setup_.scene->materials()[material].refractive_index;
+}
+
+glm::vec3 ProgressiveIntegrator::trace(const Ray& ray, const PathState& path, RandomStream& random,
+                            RayCounters& counters) const {
+    SurfaceHit hit;
+    const bool found = setup_.scene->intersect(ray, hit);
+    // Light travelling inside a coloured medium is attenuated with the distance (seed 1.3).
+    glm::vec3 transmittance(1.0f);
+    if (const int medium = path.media.top(); medium >= 0) {
+        const Material& m = setup_.scene->materials()[medium];
+        transmittance = medium_transmittance(m.medium_colour, found ? hit.t : ray_infinity, setup_.unit_distance);
+    }
+    // Saturated (radiance_range.h): the caller multiplies the result by a colour of up to 1e6.
+    if (!found) return saturate(transmittance * background(ray.direction));
+    return saturate(transmittance * shade(ray, hit, path, random, counters));
+}
+
+float ProgressiveIntegrator::light_visibility(const Light& light, const glm::vec3& point, RandomStream& random,
+                                   RayCounters& counters) const {
+    const float eps = setup_.scene->epsilon();
+    const glm::vec3 to_centre = light.position - point;
+    const float distance = glm::length(to_centre);
+    if (light.radius <= 0.0f || !setup_.soft_shadows || distance <= light.radius) {
+        ++counters.shadow;
+        return setup_.scene->occluded(Ray{point, to_centre / distance, eps, distance - eps}) ? 0.0f : 1.0f;
+    }
+    // Stratified samples over the light's disc as seen from the point.
+    const glm::vec3 w = to_centre / distance;
+    const glm::vec3 helper = std::fabs(w.x) > 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    const glm::vec3 u = glm::normalize(glm::cross(helper, w)), v = glm::cross(w, u);
+    const int n = setup_.shadow_grid;
+    int visible = 0;
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            const glm::vec2 disc =
+                concentric_disc((static_cast<float>(i) + random.uniform()) / static_cast<float>(n),
+                                (static_cast<float>(j) + random.uniform()) / static_cast<float>(n));
+            const glm::vec3 target = light.position + light.radius * (disc.x * u + disc.y * v);
+            const glm::vec3 d = target - point;
+            const float length = glm::length(d);
+            if (!(length > 0.0f)) {  // the point is the sample itself: nothing in between
+                ++visible;
+                continue;
+            }
+            ++counters.shadow;
+            visible += !setup_.scene->occluded(Ray{point, d / length, eps, length - eps});
+        }
+    }
+    return static_cast<float>(visible) / static_cast<float>(n * n);
+}
+
+glm::vec3 ProgressiveIntegrator::direct_light(const Material& m, const glm::vec3& kd, const glm::vec3& ks_weighted,
+                                              const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& to_eye,
+                                              const float* known_visibility, RandomStream& random,
+                                              RayCounters& counters) const {
+    glm::vec3 colour(0.0f);
+    for (std::size_t l = 0; l < setup_.lights.size(); ++l) {
+        const Light& light = setup_.lights[l];
+        glm::vec3 to_light;
+        float distance;
+        if (!direction_to_light(light, hit.position, to_light, distance) || glm::dot(n, to_light) <= 0.0f) continue;
+        if (kd == glm::vec3(0.0f) && ks_weighted == glm::vec3(0.0f)) continue;
+        const float known = known_visibility && l < packet_lights ? known_visibility[l] : -1.0f;
+        const float visibility = known >= 0.0f ? known : light_visibility(light, hit.position, random, counters);
+        colour = saturate(colour + phong_light(light, visibility, hit.position, n, to_eye, kd, ks_weighted,
+                                               m.shininess, setup_.unit_distance));
+    }
+    return colour;
+}
+
+glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, const PathState& path, RandomStream& random,
+                            RayCounters& counters) const {
+    const Material& m = setup_.scene->materials()[hit.material];
+    // Shade the side the ray arrives on.
+    glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
+    glm::vec3 kd = m.kd;
+    if (setup_.textures && !setup_.textures->empty()) {
+        kd = setup_.textures->diffuse(hit.material, hit, kd);
+        n = setup_.textures->shading_normal(hit.material, hit, n);
+    }
+    const glm::vec3 to_eye = -ray.direction;
+    if (m.transparent) return saturate(dielectric(ray, hit, m, n, kd, path, random, counters));
+    glm::vec3 colour = setup_.draw_caustics_only
+                           ? glm::vec3(0.0f)
+                           : setup_.ambient * kd + direct_light(m, kd, m.ks, hit, n, to_eye, path.known_visibility,
+                                                                random, counters);
+    if (setup_.caustic_map && kd != glm::vec3(0.0f)) colour += caustic_radiance(hit, n, kd, counters);
+    if (setup_.draw_caustic_map || !setup_.projection_maps.empty())
+        colour = debug_overlays(hit, glm::length(hit.position - ray.origin), colour);
+    if (m.reflective && path.depth < setup_.max_depth) {
+        PathState next = path;
+        next.depth += 1;
+        next.known_visibility = nullptr;
+        next.weight = path.weight * glm::min(m.ks, glm::vec3(1.0f));
+        if (max_component(next.weight) >= setup_.min_weight) {
+            ++counters.reflected;
+            const Ray reflected{hit.position, glm::reflect(ray.direction, n), setup_.scene->epsilon(), ray_infinity};
+            colour += m.ks * trace(reflected, next, random, counters);
+        }
+    }
+    return saturate(colour);
+}
+
+glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
+                                       RayCounters& counters) const {
+    thread_local std::vector<Neighbour> scratch;
+    if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
+        scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
+    const auto t0 = std::chrono::steady_clock::now();
+    const glm::vec3 irradiance = setup_.caustic_map->estimate(hit.position, n, setup_.caustic_neighbours,
+                                                              setup_.caustic_max_distance, setup_.caustic_filter,
+                                                              scratch.data());
+    counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ++counters.gathers;
+    return kd * saturate(irradiance);  // a disc of tiny radius can make the estimate overflow
+}
+
+glm::vec3 ProgressiveIntegrator::debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const {
+    // --draw-caustic-prm: tint the surface green where a light's projection map is occupied.
+    for (const auto& [map, light] : setup_.projection_maps) {
+        const glm::vec3 d = hit.position - light;
+        const float length = glm::length(d);
+        if (map && length > 0.0f && map->occupied(d / length)) colour = 0.5f * colour + glm::vec3(0.05f, 0.35f, 0.05f);
+    }
+    // --draw-caustic-map: a photon within about a pixel of the hit shows as a dot of its colour.
+    if (setup_.draw_caustic_map && setup_.caustic_map) {
+        const float radius = std::max(setup_.dot_radius_per_distance * distance, 1e-6f);
+        Neighbour one;
+        if (setup_.caustic_map->tree().nearest(hit.position, 1, radius, &one) == 1) {
+            const glm::vec3 power = setup_.caustic_map->photon(one.index).power;
+            const float peak = std::max({power.x, power.y, power.z});
+            colour = peak > 0.0f ? power / peak : glm::vec3(1.0f);
+        }
+    }
+    return colour;
+}
+
+glm::vec3 ProgressiveIntegrator::dielectric(const Ray& ray, const SurfaceHit& hit, const Material& m, const glm::vec3& n,
+                                            const glm::vec3& kd, const PathState& path, RandomStream& random,
+                                            RayCounters& counters) const {
+    const MediumTransition media = medium_transition(hit, ray.direction, path.media);
+    const float n1 = medium_index(media.from), n2 = medium_index(media.to);
+    const float cos_i = -glm::dot(n, ray.direction);
+    const float reflectance = fresnel_reflectance(n1, n2, cos_i);
+    // A5: a transparent surface has ambient, diffuse and a highlight weighted by R (glass
+    // highlights are dim at normal incidence); air is only an interface.
+    glm::vec3 colour(0.0f);
+    if (!m.air && !setup_.draw_caustics_only)
+        colour = setup_.ambient * kd + direct_light(m, kd, reflectance * m.ks, hit, n, -ray.direction,
+                                                    path.known_visibility, random, counters);
+    if (path.depth >= setup_.max_depth) return colour;
+    // A6: the reflected ray carries R ks; the transmitted one (1 - R) and the medium's ks^(d/d_u),
+    // applied along the segment by trace(); no per-crossing ks factor.
+    const glm::vec3 specular = m.air ? glm::vec3(1.0f) : m.ks;
+    const float eps = setup_.scene->epsilon();
+    PathState next = path;
+    next.depth += 1;
+    next.known_visibility = nullptr;
+    if (reflectance > 0.0f) {
+        next.weight = path.weight * glm::min(specular, glm::vec3(1.0f)) * reflectance;
+        if (max_component(next.weight) >= setup_.min_weight) {
+            ++counters.reflected;
+            const Ray reflected{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
+            colour += specular * reflectance * trace(reflected, next, random, counters);
+        }
+    }
+    glm::vec3 direction;
+    if (reflectance < 1.0f && refract_direction(ray.direction, n, n1, n2, direction)) {
+        next.weight = path.weight * (1.0f - reflectance);
+        next.media = media.after;
+        if (max_component(next.weight) >= setup_.min_weight) {
+            ++counters.refracted;
+            const Ray refracted{hit.position, direction, eps, ray_infinity};
+            colour += (1.0f - reflectance) * trace(refracted, next, random, counters);
+        }
+    }
+    return colour;
+}
+
+}  // namespace caustica
