@@ -115,6 +115,7 @@ void print_stats(const RenderStats& stats, bool timing, bool statistics) {
         const RayCounters& r = stats.rays;
         const double seconds = stats.total_seconds > 0 ? stats.total_seconds : 1e-9;
         std::fprintf(stderr, "statistics:\n");
+        std::fprintf(stderr, "  integrator             %9s\n", stats.integrator.c_str());
         std::fprintf(stderr, "  threads                %9d\n", stats.threads);
         std::fprintf(stderr, "  analytic primitives    %9zu\n", stats.scene.analytic_primitives);
         std::fprintf(stderr, "  mesh instances         %9zu (%zu meshes, %zu triangles stored, %zu in the world)\n",
@@ -139,6 +140,12 @@ void print_stats(const RenderStats& stats, bool timing, bool statistics) {
         if (stats.caustic_photons > 0)
             std::fprintf(stderr, "  caustic map            %9zu photons, %.1f MiB\n", stats.caustic_photons,
                          stats.caustic_map_bytes / 1048576.0);
+        for (std::size_t l = 0; l < stats.gi_lights.size(); ++l)
+            std::fprintf(stderr, "  GI photons, light %zu: %lld directions, %lld traced, %lld stored\n", l + 1,
+                         stats.gi_lights[l].candidates, stats.gi_lights[l].traced, stats.gi_lights[l].stored);
+        if (stats.gi_photons > 0)
+            std::fprintf(stderr, "  GI map                 %9zu photons, %.1f MiB\n", stats.gi_photons,
+                         stats.gi_map_bytes / 1048576.0);
         if (r.gathers > 0)
             std::fprintf(stderr, "  radiance estimates     %9llu (%.3f s summed over threads, %.0f%% of render thread time)\n",
                          static_cast<unsigned long long>(r.gathers), r.gather_seconds,

@@ -436,6 +436,10 @@ TEST(SceneLanguageCamera, GrRenderAngleIsHorizontalWithVerticalAngleFovOverAspec
     // 100 x 200: fov_y = 60 * 2 = 120 degrees.
     const Camera tall(desc, 100, 200);
     EXPECT_NEAR(angle(tall.generate(50, 0), 1), 60.0f, 1e-3f);
+    // 100 x 300 at 120 degrees would be 360 degrees tall: kept just below 180, upright and finite.
+    const Camera very_tall(CameraDesc{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 120.0}, 100, 300);
+    EXPECT_GT(very_tall.generate(50, 0).direction.y, 0.99f);
+    EXPECT_LT(very_tall.generate(50, 300).direction.y, -0.99f);
     // Square images: the angle both ways.
     const Camera square(desc, 100, 100);
     EXPECT_NEAR(angle(square.generate(50, 0), 1), 30.0f, 1e-3f);

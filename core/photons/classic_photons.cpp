@@ -125,9 +125,15 @@ double cell_solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dve
     return spherical_triangle_solid_angle(glm::normalize(a), glm::normalize(b), glm::normalize(c));
 }
 
-/// floor(N a_T) for a cell of solid angle `omega`.
-long long cell_photons(long long requested, double omega) {
-    return static_cast<long long>(std::floor(static_cast<double>(requested) * omega / (4.0 * pi)));
+/// floor(N a_T) for a cell of solid angle `omega` (B4). Below one photon per cell (N under
+/// 1 310 720) that rule would shoot nothing at all under 1 086 326 photons (the largest cell's
+/// 1 / a_T), the default --gi-num-photons of 10^6 included, so there each cell's share is rounded
+/// up or down by a uniform number fixed per cell: N photons on average, and a map that works.
+long long cell_photons(long long requested, double omega, long long cell) {
+    const double share = static_cast<double>(requested) * omega / (4.0 * pi);
+    if (requested >= classic_emission_cells) return static_cast<long long>(std::floor(share));
+    const double u = static_cast<double>(mix64(static_cast<std::uint64_t>(cell) + 0x5eedULL) >> 11) * 0x1.0p-53;
+    return static_cast<long long>(std::floor(share + u));
 }
 
 /// A lower bound of |p| over the flat cell (a, b, c): no point of it is farther than the longest
@@ -186,7 +192,7 @@ void shoot_light(const RenderScene& scene, const TextureSet* textures, const Lig
         for (int block = range.begin(); block != range.end(); ++block) {
             if (cancel && cancel->load(std::memory_order_relaxed)) return;
             auto visit = [&](long long cell, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-                const long long count = cell_photons(requested, cell_solid_angle(a, b, c));
+                const long long count = cell_photons(requested, cell_solid_angle(a, b, c), cell);
                 offered[block] += count;
                 if (count == 0) return;
                 const double h = std::fabs(glm::dot(glm::normalize(glm::cross(b - a, c - a)), a));
@@ -234,8 +240,8 @@ long long classic_photons_offered(long long requested) {
     return tbb::parallel_reduce(
         tbb::blocked_range<int>(0, emission_blocks, 1), 0LL,
         [&](const tbb::blocked_range<int>& range, long long sum) {
-            auto visit = [&](long long, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-                sum += cell_photons(requested, cell_solid_angle(a, b, c));
+            auto visit = [&](long long cell, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+                sum += cell_photons(requested, cell_solid_angle(a, b, c), cell);
             };
             for (int block = range.begin(); block != range.end(); ++block) visit_block(block, visit);
             return sum;

@@ -67,11 +67,14 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
         const RouletteOdds odds = roulette_odds(m);
         const float xi = random.uniform();
         if (xi < odds.diffuse || xi >= odds.diffuse + odds.specular) return;
+        // A6: a reflection carries ks; a transmission carries nothing at the surface, the
+        // medium's ks^(d/d_u) is applied along the segment inside (above).
         const glm::vec3 ks = m.air ? glm::vec3(1.0f) : m.ks;
-        power = saturate(power * (ks / odds.specular));  // ks / odds.specular is at most 3
+        const glm::vec3 reflected_power = saturate(power * (ks / odds.specular));  // ks / odds is at most 3
         const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
         ++specular_bounces;
         if (!m.transparent) {
+            power = reflected_power;
             ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
             continue;
         }
@@ -81,9 +84,11 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
         const float reflectance = fresnel_reflectance(n1, n2, -glm::dot(n, ray.direction));
         glm::vec3 refracted;
         if (random.uniform() >= reflectance && refract_direction(ray.direction, n, n1, n2, refracted)) {
+            power = saturate(power / odds.specular);
             media = t.after;
             ray = Ray{hit.position, refracted, eps, ray_infinity};
         } else {
+            power = reflected_power;
             ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
         }
     }

@@ -169,6 +169,9 @@ void RenderSession::publish_caustic_stats() {
     stats_.caustic_lights = caustics_->lights;
     stats_.caustic_photons = caustics_->map ? caustics_->map->size() : 0;
     stats_.caustic_map_bytes = caustics_->map ? caustics_->map->memory_bytes() : 0;
+    stats_.gi_lights = caustics_->gi_lights;
+    stats_.gi_photons = caustics_->gi_map ? caustics_->gi_map->size() : 0;
+    stats_.gi_map_bytes = caustics_->gi_map ? caustics_->gi_map->memory_bytes() : 0;
 }
 
 void RenderSession::start() {
@@ -345,6 +348,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     std::lock_guard lock(mutex_);
     stats_.rays = total;
     stats_.threads = threads;
+    stats_.integrator = integrator->name();
     ++counters_.renders;
 }
 

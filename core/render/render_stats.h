@@ -61,6 +61,9 @@ struct RenderStats {
     double total_seconds = 0.0;
     std::vector<LightCausticStats> caustic_lights;
     std::size_t caustic_photons = 0, caustic_map_bytes = 0;
+    std::vector<LightCausticStats> gi_lights;  ///< classic --gi: the GI pass of each light
+    std::size_t gi_photons = 0, gi_map_bytes = 0;
+    std::string integrator;                    ///< "classic" or "progressive"
 };
 
 }  // namespace caustica

@@ -6,6 +6,9 @@ namespace caustica {
 
 namespace {
 
+/// The widest vertical angle the image plane is given, in degrees.
+constexpr double max_vertical_fov_degrees = 179.0;
+
 /// `v` at unit length, scaled down first so that a huge or tiny vector normalises exactly.
 glm::dvec3 unit(const glm::dvec3& v) {
     const double m = std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
@@ -27,7 +30,10 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : width_(width), h
     right_ = glm::vec3(right);
     up_ = glm::vec3(up);
     // Up only fixes the roll: the image plane stays perpendicular to the view direction.
-    const double half_height = std::tan(glm::radians(vertical_fov_degrees(desc, width, height)) * 0.5);
+    // A tall image can push fov_x / aspect to 180 degrees or more, where the plane has no extent:
+    // keep it just below (the original's image there is meaningless; ours stays upright).
+    const double vertical = std::fmin(vertical_fov_degrees(desc, width, height), max_vertical_fov_degrees);
+    const double half_height = std::tan(glm::radians(vertical) * 0.5);
     half_height_ = static_cast<float>(half_height);
     half_width_ = static_cast<float>(half_height * width / height);
 }

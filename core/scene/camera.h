@@ -8,7 +8,8 @@
 namespace caustica {
 
 /// The vertical field of view of a width x height image, in degrees: gr.render's angle is the
-/// horizontal one and fov_y = fov_x / aspect, aspect = width / height (A7).
+/// horizontal one and fov_y = fov_x / aspect, aspect = width / height (A7). Camera keeps the
+/// angle it uses below 179 degrees (a tall image with a wide angle would reach 180).
 double vertical_fov_degrees(const CameraDesc& desc, int width, int height);
 
 /// Generates primary rays through pixel positions (x right, y down, pixel centres at +0.5).
