@@ -35,7 +35,8 @@ for i = 0, 3 do
   add(gr.cube('wall' .. i), brick, -6 + 4 * i, 1, -5, 2, 2, 0.2)
 end
 
--- A die: the default 3x4 cross unwrap of a cube (top 1, front 2, +x 3).
+-- A die: the cube's own uv, a 4 x 3 cross wrapped around z (no remap). The camera sees the
+-- top (+y, 1), the front (+z, 2) and the -x face (4); the dark bar on each side face hugs the top.
 die_faces = gr.material({1, 1, 1}, {0.2, 0.2, 0.2}, 30)
 die_faces:set_texture(gr.texture(textures .. 'die_unwrap.png'))
 die = gr.cube('die')
@@ -44,7 +45,8 @@ die:rotate('y', 35)
 die:set_material(die_faces)
 scene:add_child(die)
 
--- A planet: longitude/latitude map on a sphere, its axis tilted.
+-- A planet: a map for the sphere's uv (centre column at +x, seam at -x, rows linear in height),
+-- its axis tilted.
 planet = gr.material({1, 1, 1}, {0.15, 0.15, 0.15}, 20)
 planet:set_texture(gr.texture(textures .. 'globe.png'))
 globe = gr.sphere('globe')
@@ -55,21 +57,30 @@ globe:scale(1.2, 1.2, 1.2)
 globe:set_material(planet)
 scene:add_child(globe)
 
--- A drum: a compass rose on the cylinder's top cap (cyltop); the side keeps kd (brass).
-drum = gr.material({0.7, 0.55, 0.25}, {0.3, 0.3, 0.3}, 25)
+-- A drum: a compass rose on the cylinder's top cap (cyltop), north towards -z. Outside the
+-- window (the side, in the lower half of the cylinder's uv) the texture gives black: a black
+-- lacquered side with brass-coloured highlights.
+drum = gr.material({0.7, 0.55, 0.25}, {0.5, 0.42, 0.25}, 25)
 compass = gr.texture(textures .. 'compass.png')
 compass:remapt('cyltop')
 drum:set_texture(compass)
 add(gr.cylinder('drum'), drum, 2.6, -0.45, -1.6, 1.1, 0.55, 1.1)
 
--- A cone with a colour wheel projected from above, the wheel's centre on the apex (conetop).
-wheel = gr.material({1, 1, 1}, {0.0, 0.0, 0.0}, 0)
+-- A spinning top: a cone (height 1, base radius 1) turned over onto its apex, scaled to height
+-- 1.6, with a colour wheel on its flat base, now facing up (conetop). The side is outside the
+-- window: black, with highlights.
+wheel = gr.material({1, 1, 1}, {0.4, 0.4, 0.4}, 40)
 wheel_texture = gr.texture(textures .. 'colour_wheel.png')
 wheel_texture:remapt('conetop')
 wheel:set_texture(wheel_texture)
-add(gr.cone('cone'), wheel, -2.3, 0.2, -2.6, 1.0, 1.2, 1.0)
+spinning_top = gr.cone('spinning_top')
+spinning_top:translate(-2.3, -0.2, -2.6)
+spinning_top:rotate('x', 180)
+spinning_top:scale(1.0, 1.6, 1.0)
+spinning_top:set_material(wheel)
+scene:add_child(spinning_top)
 
--- A checkerboard ball (redcheck: 8 x 8 checks over longitude and latitude).
+-- A checkerboard ball (redcheck: 24 squares per uv unit, so 24 around and 24 from pole to pole).
 checks = gr.material({1, 1, 1}, {0.3, 0.3, 0.3}, 50)
 checks:set_texture(gr.texture('redcheck'))
 add(gr.sphere('checker_ball'), checks, 2.9, -0.3, 1.6, 0.7, 0.7, 0.7)

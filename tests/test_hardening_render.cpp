@@ -328,25 +328,29 @@ TEST(HardeningNumbers, AbsurdColoursAndFalloffsAreRefusedWithTheirLine) {
     EXPECT_EQ(render_error(b.build()).rfind("scene.lua:1: material:set_ri: refractive index 1e+300", 0), 0u);
 }
 
-TEST(HardeningNumbers, ExtremesWithinTheLimitsGiveFinitePixels) {
-    // Colours at 1e6 everywhere (kd, ks, lights, ambient, miss colour, a medium colour), a light
-    // with c0 = 1e-30 (attenuation 1e30 before the cap), glass of index 1e6, 1e-6 and 1.5, shininess
-    // 1e6, and per case: photons of power 2.5e29 gathered over a tiny disc, a unit distance below
-    // float (the medium's transmittance 1e6^inf), a large one, and mirrors of ks = 1e6 facing each
-    // other 64 bounces deep (caustics refuse such mirrors: kd + ks > 1).
+namespace {
+
+/// Colours at 1e6 everywhere (kd, ks, lights, ambient, miss colour, a medium colour), a light
+/// with c0 = 1e-30 (attenuation 1e30 before the cap), glass of index 1e6, 1e-6 and 1.5, shininess
+/// 1e6, and per case: photons of power up to 2.5e29 gathered over a tiny disc, a unit distance below
+/// float (the medium's transmittance 1e6^inf), a large one, and mirrors of ks = 1e6 facing each
+/// other 64 bounces deep (caustics refuse such mirrors: kd + ks > 1). Renders each case with
+/// `kind` and checks that every pixel is finite and that the caustic stage ran.
+void expect_extremes_give_finite_pixels(IntegratorKind kind) {
     struct Case {
         double unit_distance;
         bool caustics;
     };
     for (const Case c : {Case{1e-2, true}, Case{1e-300, true}, Case{1e12, true}, Case{1.0, false}}) {
         JobBuilder b(16, 16);
+        b.job.options.integrator = kind;
         const double mirror_ks = c.caustics ? 1.0 : 1e6;
         const int mirror = b.material({0, 0, 0}, glm::dvec3(mirror_ks), 1e6, true);
         const int diffuse = b.material({1e6, 0, 1e6}, {1e6, 0, 0}, 1e6);
         for (const double index : {1e6, 1e-6, 1.5}) {
             MaterialDesc glass;
-            glass.kd = {1e6, 0.5, 0};  // the medium's colour: transmittance 1e6^(d / unit distance)
-            glass.ks = {1e6, 1e6, 0};
+            glass.kd = {1e6, 0.5, 0};  // the surface's diffuse colour
+            glass.ks = {1e6, 1e6, 0};  // A6: the medium's colour, transmittance 1e6^(d / unit distance)
             glass.refractive_index = index;
             b.scene->materials.push_back(glass);
         }
@@ -388,9 +392,26 @@ TEST(HardeningNumbers, ExtremesWithinTheLimitsGiveFinitePixels) {
         EXPECT_EQ(non_finite_pixels(session.image()), 0u) << "unit distance " << c.unit_distance;
         EXPECT_GT(session.stats().rays.refracted, 0u);  // the medium was crossed
         if (c.caustics) {
-            EXPECT_GT(session.stats().caustic_photons, 0u) << c.unit_distance;
+            // At d_u = 1e-300 the photon energy 4 pi d_u^2 C / (c2 N) underflows to exactly 0 in
+            // double. The progressive map stores such photons; B4 stores a classic photon only if
+            // its luma is > 0, so the classic map stays empty there (the rule, not a failure).
+            if (kind == IntegratorKind::classic && c.unit_distance < 1e-150)
+                EXPECT_EQ(session.stats().caustic_photons, 0u) << c.unit_distance;
+            else
+                EXPECT_GT(session.stats().caustic_photons, 0u) << c.unit_distance;
         }
     }
+}
+
+}  // namespace
+
+TEST(HardeningNumbers, ExtremesWithinTheLimitsGiveFinitePixels) {
+    expect_extremes_give_finite_pixels(IntegratorKind::progressive);
+}
+
+TEST(HardeningNumbers, ExtremesWithinTheLimitsGiveFinitePixelsWithTheClassicIntegrator) {
+    // docs/RELIABILITY.md "No NaN or infinity from finite input" holds for every integrator.
+    expect_extremes_give_finite_pixels(IntegratorKind::classic);
 }
 
 TEST(HardeningNumbers, PhotonPowerBeyondFloatIsRefusedAtTheLight) {

@@ -89,11 +89,15 @@ TEST(BeerLambert, TransmittanceIsColourToTheDistanceInUnits) {
 }
 
 TEST(BeerLambert, ASlabOfColouredMediumDimsTheBackgroundAsTheFormulaSays) {
-    // Index 1 (no refraction, no reflection) and ks = 1: only absorption over the slab's 0.5 thickness.
+    // Index 1 (no refraction, no reflection): only absorption over the slab's 0.5 thickness.
+    // A6: the medium colour is ks, and the transmitted ray carries (1 - R) ks^(d/d_u) with no
+    // extra per-crossing ks factor (R = 0 here). kd is the surface's own diffuse colour: 0.
+    // The progressive integrator: its medium stack returns the ray to air past the slab, while the
+    // classic one (B1) tints a plain object's exit segment with its ks too, to the next hit.
     JobBuilder b(33, 33);
     MaterialDesc tint;
-    tint.kd = {0.5, 0.8, 1.0};
-    tint.ks = {1, 1, 1};
+    tint.kd = {0, 0, 0};
+    tint.ks = {0.5, 0.8, 1.0};
     tint.refractive_index = 1.0;
     b.scene->materials.push_back(tint);
     const int slab = b.add(NodeKind::cube, 0);
@@ -101,6 +105,7 @@ TEST(BeerLambert, ASlabOfColouredMediumDimsTheBackgroundAsTheFormulaSays) {
     b.camera({0, 0, 5}, {0, 0, -1}, 10);
     b.job.miss_colour = {1, 1, 1};
     b.job.options.disable_aa = true;
+    b.job.options.integrator = IntegratorKind::progressive;
     const glm::vec3 c = caustica::testing::render(b.build()).at(16, 16);
     EXPECT_NEAR(c.x, std::sqrt(0.5f), 1e-4f);
     EXPECT_NEAR(c.y, std::sqrt(0.8f), 1e-4f);
@@ -278,6 +283,9 @@ TEST(Invariance, NestedSolidOfTheSameIndexIsInvisibleThanksToTheMediumStack) {
         b.job.ambient = {1, 1, 1};
         b.job.options.disable_aa = true;
         b.job.options.max_depth = 16;
+        // The medium stack is the progressive integrator's (the classic one, B1, treats each plain
+        // object as glass in air, as the original did).
+        b.job.options.integrator = IntegratorKind::progressive;
         return caustica::testing::render(b.build());
     };
     const Image one = build(false), nested = build(true);

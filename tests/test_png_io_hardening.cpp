@@ -570,14 +570,28 @@ TEST_F(PngWrite, AVeryLongNameStillGetsATemporaryAndAFailedWriteLeavesNothing) {
     EXPECT_EQ(files(), (std::vector<std::string>{long_name, "taken.png"}));
 }
 
-TEST(PngEncoding, RoundsHalfUpLikeLround) {
+TEST(PngEncoding, LinearTruncatesSrgbRounds) {
+    // SEED_BEHAVIOUR A7: linear output is clamp to [0, 1], x255, truncated (no rounding); only
+    // --srgb (ours) rounds to the nearest value.
+    using caustica::PixelEncoding;
     for (int k = 0; k <= 255; ++k) {
-        EXPECT_EQ(caustica::encode_channel(k / 255.0f, caustica::PixelEncoding::clamped_linear), k);
-        EXPECT_EQ(caustica::encode_channel((k + 0.49f) / 255.0f, caustica::PixelEncoding::clamped_linear), k);
+        EXPECT_EQ(caustica::encode_channel(k / 255.0f, PixelEncoding::clamped_linear), k) << k;
+        if (k < 255) EXPECT_EQ(caustica::encode_channel((k + 0.99f) / 255.0f, PixelEncoding::clamped_linear), k) << k;
     }
-    EXPECT_EQ(caustica::encode_channel(0.5f / 255.0f, caustica::PixelEncoding::clamped_linear), 1);
-    EXPECT_EQ(caustica::encode_channel(-1.0f, caustica::PixelEncoding::clamped_linear), 0);
-    EXPECT_EQ(caustica::encode_channel(2.0f, caustica::PixelEncoding::clamped_linear), 255);
-    EXPECT_EQ(caustica::encode_channel(std::nanf(""), caustica::PixelEncoding::clamped_linear), 0);
-    EXPECT_EQ(caustica::encode_channel(0.5f, caustica::PixelEncoding::srgb), 188);
+    EXPECT_EQ(caustica::encode_channel(0.5f / 255.0f, PixelEncoding::clamped_linear), 0);     // lround: 1
+    EXPECT_EQ(caustica::encode_channel(254.99f / 255.0f, PixelEncoding::clamped_linear), 254);  // lround: 255
+    EXPECT_EQ(caustica::encode_channel(0.999f, PixelEncoding::clamped_linear), 254);
+    EXPECT_EQ(caustica::encode_channel(0.5f, PixelEncoding::clamped_linear), 127);  // 127.5
+    EXPECT_EQ(caustica::encode_channel(1.0f, PixelEncoding::clamped_linear), 255);
+    EXPECT_EQ(caustica::encode_channel(-1.0f, PixelEncoding::clamped_linear), 0);
+    EXPECT_EQ(caustica::encode_channel(2.0f, PixelEncoding::clamped_linear), 255);
+    EXPECT_EQ(caustica::encode_channel(std::nanf(""), PixelEncoding::clamped_linear), 0);
+    // --srgb rounds: 0.5 -> 1.055 * 0.5^(1/2.4) - 0.055 = 0.73536, x255 = 187.52 -> 188 (truncated: 187).
+    EXPECT_EQ(caustica::encode_channel(0.5f, PixelEncoding::srgb), 188);
+    // On the linear segment (12.92 v): 0.6 of a step rounds up to 1, 0.4 down to 0.
+    EXPECT_EQ(caustica::encode_channel(0.6f / (12.92f * 255.0f), PixelEncoding::srgb), 1);
+    EXPECT_EQ(caustica::encode_channel(0.4f / (12.92f * 255.0f), PixelEncoding::srgb), 0);
+    EXPECT_EQ(caustica::encode_channel(0.0f, PixelEncoding::srgb), 0);
+    EXPECT_EQ(caustica::encode_channel(1.0f, PixelEncoding::srgb), 255);
+    EXPECT_EQ(caustica::encode_channel(2.0f, PixelEncoding::srgb), 255);
 }

@@ -1,5 +1,7 @@
 #include "ui/orbit_camera.h"
 
+#include "core/scene/camera.h"
+
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
@@ -45,12 +47,13 @@ void OrbitCamera::zoom(double factor) {
     moved_ = true;
 }
 
-void OrbitCamera::pan_pixels(glm::dvec2 pixels, int image_height) {
-    if (image_height <= 0 || (pixels.x == 0.0 && pixels.y == 0.0)) return;
+void OrbitCamera::pan_pixels(glm::dvec2 pixels, int image_width, int image_height) {
+    if (image_width <= 0 || image_height <= 0 || (pixels.x == 0.0 && pixels.y == 0.0)) return;
     const glm::dvec3 forward = glm::normalize(target_ - eye_);
     const glm::dvec3 right = glm::normalize(glm::cross(forward, up_));
     const glm::dvec3 up = glm::cross(right, forward);
-    const double per_pixel = 2.0 * distance() * std::tan(glm::radians(script_.fovy_degrees) * 0.5) / image_height;
+    const double per_pixel = 2.0 * distance() * std::tan(glm::radians(vertical_fov_degrees(script_, image_width, image_height)) * 0.5) /
+                             image_height;  // A7: gr.render's angle is the horizontal one
     const glm::dvec3 delta = (-pixels.x * right + pixels.y * up) * per_pixel;
     eye_ += delta;
     target_ += delta;

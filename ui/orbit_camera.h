@@ -23,8 +23,8 @@ public:
     void zoom(double factor);
 
     /// Moves eye and target across the view so that the target plane follows the cursor by
-    /// (dx, dy) pixels of an image `image_height` pixels tall (y down).
-    void pan_pixels(glm::dvec2 pixels, int image_height);
+    /// (dx, dy) pixels of an image `image_width` x `image_height` pixels (y down).
+    void pan_pixels(glm::dvec2 pixels, int image_width, int image_height);
 
     /// Aims at `target`, keeping the eye where it is.
     void set_target(const glm::dvec3& target);

@@ -122,7 +122,8 @@ void ViewModel::zoom(double steps) {
 
 void ViewModel::pan(glm::dvec2 image_pixels) {
     if (!scene_ || (image_pixels.x == 0.0 && image_pixels.y == 0.0)) return;
-    orbit_.pan_pixels(image_pixels, driver_.has_job() ? driver_.job().height : current_job().height);
+    const RenderJob& shown = driver_.has_job() ? driver_.job() : current_job();
+    orbit_.pan_pixels(image_pixels, shown.width, shown.height);
     mark_dirty();
 }
 

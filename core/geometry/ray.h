@@ -55,7 +55,7 @@ struct SurfaceHit {
     int face = 0;                           ///< face code of analytic shapes (see SurfaceCrossing)
     int shape_kind = -1;                    ///< ShapeKind of an analytic shape, -1 for a mesh
     glm::vec3 object_position{0.0f};        ///< hit point in the primitive's object space
-    glm::vec3 dpdu{0.0f}, dpdv{0.0f};       ///< world-space surface tangents along u and v
+    glm::vec3 dpdu{0.0f}, dpdv{0.0f};       ///< A2's bump tangents U and V, through the normal matrix (A4)
 };
 
 }  // namespace caustica

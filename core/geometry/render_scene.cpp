@@ -338,8 +338,9 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
             hit.uv = shape_uv(prim.shape, hit.object_position, hit.face);
             glm::vec3 dpdu, dpdv;
             shape_tangents(prim.shape, hit.object_position, hit.face, dpdu, dpdv);
-            hit.dpdu = prim.object_to_world * dpdu;
-            hit.dpdv = prim.object_to_world * dpdv;
+            // A4: the bump tangents of A2 go through the normal matrix.
+            hit.dpdu = prim.normal_to_world * dpdu;
+            hit.dpdv = prim.normal_to_world * dpdv;
         }
     } else {
         const MeshInstance& inst = instances_[instance - first_instance_id_];
@@ -385,8 +386,8 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
     hit.uv = shape_uv(leaf.shape, object_position, hit.face);
     glm::vec3 dpdu, dpdv;
     shape_tangents(leaf.shape, object_position, hit.face, dpdu, dpdv);
-    hit.dpdu = leaf.object_to_world * dpdu;
-    hit.dpdv = leaf.object_to_world * dpdv;
+    hit.dpdu = leaf.normal_to_world * dpdu;  // A4: through the normal matrix
+    hit.dpdv = leaf.normal_to_world * dpdv;
 }
 
 bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {

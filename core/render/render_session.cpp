@@ -273,7 +273,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     setup.draw_gi_only = options.draw_gi_only;
     setup.draw_gi_map = options.draw_gi_map;
     setup.dot_radius_per_distance =
-        static_cast<float>(std::tan(glm::radians(job_.camera.fovy_degrees) * 0.5) * 2.0 / height);
+        static_cast<float>(std::tan(glm::radians(vertical_fov_degrees(job_.camera, width, height)) * 0.5) * 2.0 / height);
     if (options.draw_caustic_prm && caustics_)
         for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
             if (!caustics_->projection_maps[l].empty())

@@ -81,17 +81,23 @@ def fractal_noise3(x, y, z, octaves=5):
 
 
 def die_unwrap():
-    """384 x 512: the 3 x 4 cross unwrap of a die (128-texel cells). Pips: top 1, front 2,
-    +x 3, -x 4, back 5, bottom 6 (opposite faces sum to 7). A dark bar along each cell's top
-    edge shows which way is up in the image."""
+    """512 x 384: a die on the cube's 4-column x 3-row cross (128-texel cells, SEED_BEHAVIOUR A2):
+
+        row 0:           -z (5)
+        row 1:  -x (4)   +y (1)   +x (3)   -y (6)
+        row 2:           +z (2)
+
+    Opposite faces sum to 7. On each side face (+-x, +-z) a dark bar runs along the edge that
+    meets the top (+y) face: the cell edge that touches the +y cell in the cross, so a render
+    shows the layout is the right way round when every bar hugs the die's top."""
     cell = 128
-    faces = {  # (column, row): (pips, background)
-        (1, 0): (1, (0.95, 0.85, 0.30)),  # top +y
-        (0, 1): (4, (0.35, 0.75, 0.40)),  # -x
-        (1, 1): (2, (0.90, 0.45, 0.30)),  # front +z
-        (2, 1): (3, (0.35, 0.55, 0.90)),  # +x
-        (1, 2): (6, (0.80, 0.40, 0.80)),  # bottom -y
-        (1, 3): (5, (0.40, 0.80, 0.85)),  # back -z
+    faces = {  # (column, row): (pips, background, edge touching +y: 'left' / 'right' / 'top' / 'bottom')
+        (1, 1): (1, (0.95, 0.85, 0.30), None),      # +y, top
+        (0, 1): (4, (0.35, 0.75, 0.40), 'right'),   # -x: u = s_y / 4, +y at the cell's right
+        (2, 1): (3, (0.35, 0.55, 0.90), 'left'),    # +x: u = (3 - s_y) / 4, +y at the left
+        (3, 1): (6, (0.80, 0.40, 0.80), None),      # -y, bottom
+        (1, 2): (2, (0.90, 0.45, 0.30), 'top'),     # +z, front: v = s_y / 3, +y at the top
+        (1, 0): (5, (0.40, 0.80, 0.85), 'bottom'),  # -z, back: v = (3 - s_y) / 3, +y at the bottom
     }
     pip_layouts = {
         1: [(0.5, 0.5)],
@@ -103,52 +109,61 @@ def die_unwrap():
     }
     ink = (0.08, 0.08, 0.10)
 
+    def bar(a, b, side):
+        """True on the bar along `side` of the cell; (a, b) = (across, down) in the cell, in [0, 1]."""
+        along, depth = {'top': (a, b), 'bottom': (a, 1 - b), 'left': (b, a), 'right': (b, 1 - a)}[side]
+        return depth < 0.09 and 0.3 < along < 0.7
+
     def pixel(x, y):
         key = (x // cell, y // cell)
         if key not in faces:
             return (0.5, 0.5, 0.5)
-        pips, background = faces[key]
+        pips, background, up_edge = faces[key]
         total = (0.0, 0.0, 0.0)
         for sx in (0.25, 0.75):  # 2 x 2 supersampling for smooth pip edges
             for sy in (0.25, 0.75):
-                u, v = ((x + sx) % cell) / cell, ((y + sy) % cell) / cell
+                a, b = ((x + sx) % cell) / cell, ((y + sy) % cell) / cell  # b grows down the image
                 colour = background
-                edge = min(u, v, 1 - u, 1 - v)
-                if edge < 0.03:
+                if min(a, b, 1 - a, 1 - b) < 0.03:
                     colour = mix(background, ink, 0.6)  # border
-                if v < 0.09 and 0.3 < u < 0.7:
-                    colour = ink  # "up" bar
+                if up_edge and bar(a, b, up_edge):
+                    colour = ink
                 for px, py in pip_layouts[pips]:
-                    if (u - px) ** 2 + (v - py) ** 2 < 0.085 ** 2:
+                    if (a - px) ** 2 + (b - py) ** 2 < 0.085 ** 2:
                         colour = ink
                 total = tuple(t + 0.25 * c for t, c in zip(total, colour))
         return total
 
-    write_png('die_unwrap.png', 3 * cell, 4 * cell, pixel)
+    write_png('die_unwrap.png', 4 * cell, 3 * cell, pixel)
 
 
 def globe():
-    """512 x 256 longitude/latitude map of an imaginary planet: noise continents on an ocean,
-    ice caps, and a graticule every 30 degrees (u = longitude, v = 0 at the north pole)."""
+    """512 x 256 map of an imaginary planet for the sphere's uv (SEED_BEHAVIOUR A2):
+    u = 1/2 + atan2(-z, x) / 2 pi, v = (1 + y) / 2, so the centre column is +x, the seam -x, the
+    top row the north pole, and rows are linear in height (an equal-area map). Each texel is
+    drawn from the point of the sphere it lands on, so the map has no seam: noise continents on
+    an ocean, ice caps, and a graticule every 30 degrees of longitude and latitude."""
     width, height = 512, 256
     ocean_deep, ocean_shallow = (0.05, 0.15, 0.45), (0.15, 0.45, 0.75)
     lowland, highland, ice = (0.25, 0.60, 0.20), (0.55, 0.45, 0.25), (0.95, 0.97, 1.0)
+    parallels = [(1 + math.sin(math.radians(lat))) / 2 for lat in (-60, -30, 0, 30, 60)]
 
     def pixel(x, y):
-        u, v = (x + 0.5) / width, (y + 0.5) / height
-        phi, theta = 2 * math.pi * (u - 0.5), math.pi * v
-        p = (math.sin(theta) * math.sin(phi), math.cos(theta), math.sin(theta) * math.cos(phi))
+        u, v = (x + 0.5) / width, 1 - (y + 0.5) / height  # row 0 is v = 1
+        phi, height_y = 2 * math.pi * (u - 0.5), 2 * v - 1
+        ring = math.sqrt(max(0.0, 1 - height_y * height_y))
+        p = (ring * math.cos(phi), height_y, -ring * math.sin(phi))  # atan2(-z, x) = phi
         n = fractal_noise3(2.2 * p[0] + 5.0, 2.2 * p[1] + 5.0, 2.2 * p[2] + 5.0)
         if n < 0.52:
             colour = mix(ocean_deep, ocean_shallow, smoothstep(0.35, 0.52, n))
         else:
             colour = mix(lowland, highland, smoothstep(0.55, 0.7, n))
-        latitude = 90.0 - 180.0 * v
-        if abs(latitude) > 72.0 + 6.0 * n:
+        latitude = math.degrees(math.asin(height_y))
+        if abs(latitude) > 64.0 + 8.0 * n:
             colour = ice
-        longitude = 360.0 * u
-        near_line = min(abs((longitude + 15) % 30 - 15), abs((latitude + 15) % 30 - 15))
-        if near_line < 0.5:
+        columns_to_meridian = abs((u * 12 + 0.5) % 1 - 0.5) * width / 12  # meridians every 30 degrees
+        rows_to_parallel = min(abs(v - vp) for vp in parallels) * height
+        if min(columns_to_meridian, rows_to_parallel) < 0.75:
             colour = mix(colour, (1.0, 1.0, 1.0), 0.5)
         return colour
 
@@ -156,16 +171,20 @@ def globe():
 
 
 def compass():
-    """256 x 256 compass rose for a cylinder's top (cyltop): rings, an eight-point star, and a
-    red north point at the image's top (the -z side of the cap)."""
+    """256 x 256 compass rose for a cylinder's top cap through cyltop (SEED_BEHAVIOUR A3): the
+    cap maps to the whole image with u' = (1 + x) / 2 and v' = (1 + z) / 2, so the image's right
+    is +x and its BOTTOM row is -z. Seen from above with -z away from the viewer the image shows
+    upside down, so it is drawn flipped: the red north point at the image's bottom (the cap's
+    -z side), east at the right. Rings and an eight-point star."""
     size = 256
 
     def pixel(x, y):
         total = (0.0, 0.0, 0.0)
         for sx in (0.25, 0.75):
             for sy in (0.25, 0.75):
-                px, py = 2 * (x + sx) / size - 1, 2 * (y + sy) / size - 1  # y grows downwards
-                r, angle = math.hypot(px, py), math.atan2(px, -py)  # angle 0 = up (north)
+                # (east, north) as seen from above: east = +x = image right, north = -z = image down.
+                east, north = 2 * (x + sx) / size - 1, 2 * (y + sy) / size - 1
+                r, angle = math.hypot(east, north), math.atan2(east, north)  # angle 0 = north, clockwise
                 colour = (0.93, 0.88, 0.75)
                 if 0.88 < r < 0.93 or 0.60 < r < 0.62:
                     colour = (0.25, 0.2, 0.15)
@@ -191,8 +210,10 @@ def hsv(h, s, v):
 
 
 def colour_wheel():
-    """256 x 256 colour wheel with a spiral for a cone (conetop): hue by angle around the
-    centre (the apex), bands along a spiral, white at the centre."""
+    """256 x 256 colour wheel with a spiral for a cone's flat base through conetop
+    (SEED_BEHAVIOUR A3): the base disc maps to the circle inscribed in the image, u' = (1 + x) / 2,
+    v' = (1 + z) / 2, its centre at the image's centre. Hue by angle around the centre, bands
+    along a spiral, white at the centre, a dark rim at the disc's edge."""
     size = 256
 
     def pixel(x, y):
@@ -201,6 +222,8 @@ def colour_wheel():
         hue = (angle / (2 * math.pi)) % 1.0
         band = 0.5 + 0.5 * math.cos(2 * math.pi * (6 * r - 2 * angle / (2 * math.pi)))
         value = 0.55 + 0.45 * smoothstep(0.2, 0.8, band)
+        if 0.94 < r:
+            return (0.12, 0.1, 0.1)  # the rim of the disc (and the unused corners)
         return hsv(hue, min(1.0, 4 * r), value)
 
     write_png('colour_wheel.png', size, size, pixel)

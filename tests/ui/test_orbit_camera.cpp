@@ -77,7 +77,7 @@ TEST(OrbitCamera, PanFollowsTheCursorAtTheTarget) {
     const int height = 400;
     // A point at the target sits at the image centre; after panning by (dx, dy) pixels it sits
     // (dx, dy) pixels away from the centre, as under a dragged cursor.
-    orbit.pan_pixels({25.0, -10.0}, height);
+    orbit.pan_pixels({25.0, -10.0}, height, height);
     const Camera camera(orbit.desc(), height, height);
     glm::vec2 pixel;
     ASSERT_TRUE(camera.project(glm::vec3(0.0f), pixel));
