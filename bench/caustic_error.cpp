@@ -28,6 +28,7 @@ Run measure(long long photons, bool random_emission, bool cone, int neighbours, 
     b.job.options.photon_random_emission = random_emission;
     b.job.options.caustic_cone_filter = cone;
     b.job.options.draw_caustics_only = true;
+    b.job.options.integrator = IntegratorKind::progressive;  // the physics the virtual light's answer follows
     RenderSession session;
     session.set_job(b.build());
     session.start();
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
     const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
     caustica::testing::JobBuilder reference = virtual_light_scene(true);
     reference.job.width = reference.job.height = 96;
+    reference.job.options.integrator = IntegratorKind::progressive;
     const RenderJob reference_job = reference.build();
     const Image truth = caustica::testing::render(reference_job);
     const std::vector<std::size_t> pixels = caustica::testing::virtual_light_annulus(reference_job);

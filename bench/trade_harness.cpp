@@ -47,8 +47,11 @@ double median(std::vector<double> v) {
     return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-/// The settings every measured run shares: caustics only, one centred sample, fixed streams, all cores.
+/// The settings every measured run shares: caustics only, one centred sample, fixed streams, all
+/// cores, and the progressive integrator, whose physics the references (and the analytic virtual
+/// light) follow.
 void set_caustics_only(Options& o, int threads) {
+    o.integrator = IntegratorKind::progressive;
     o.draw_caustics_only = true;
     o.disable_aa = true;
     o.reproducible = true;
@@ -187,6 +190,7 @@ TradeScene virtual_light(int threads) {
     caustica::testing::JobBuilder truth_builder = caustica::testing::virtual_light_scene(true);
     truth_builder.job.width = truth_builder.job.height = 256;
     truth_builder.job.options.threads = threads;
+    truth_builder.job.options.integrator = IntegratorKind::progressive;  // the analytic virtual light's physics
     const RenderJob truth_job = truth_builder.build();
     caustica::testing::JobBuilder builder = caustica::testing::virtual_light_scene(false);
     builder.job.width = builder.job.height = 256;

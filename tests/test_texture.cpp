@@ -398,8 +398,10 @@ TEST(TextureScene, DemoSceneShowsTheDiesYellowTop) {
     job.options.disable_aa = true;
     job.options.silent = true;
     const Image image = caustica::testing::render(job);
-    // The die (translate(-3.3, 0, 1.6) rotate('y', 35)): its top face at local (-0.5, 1, 0) is in
-    // the top cell's yellow, between the pip and the border.
+    // The die (translate(-3.3, 0, 1.6) rotate('y', 35)) wears the cube's own uv, the 4 x 3 cross
+    // (SEED_BEHAVIOUR A2): its top face at local (-0.5, 1, 0) has s = (0.25, 1, 0.5), so
+    // u = (1 + s_x)/4 = 0.3125 and v = (2 - s_z)/3 = 0.5: the +y cell (column 1 of the middle row)
+    // at (0.25, 0.5) within the cell, in its yellow between the pip and the border.
     const float c = std::cos(glm::radians(35.0f)), s = std::sin(glm::radians(35.0f));
     const glm::vec3 p(-3.3f - 0.5f * c, 1.0f, 1.6f + 0.5f * s);
     glm::vec2 pixel;

@@ -17,7 +17,9 @@ glm::vec3 segment_transmittance(const glm::vec3& ks, float distance, float unit_
     if (ks == glm::vec3(1.0f)) return ks;
     if (!std::isfinite(distance)) return glm::vec3(ks.x >= 1.0f, ks.y >= 1.0f, ks.z >= 1.0f) * glm::min(ks, glm::vec3(1.0f));
     const float k = distance / unit_distance;
-    return saturate(glm::vec3(std::pow(ks.x, k), std::pow(ks.y, k), std::pow(ks.z, k)));
+    // ks above 1 amplifies: capped as the inputs are (radiance_range.h).
+    constexpr float cap = static_cast<float>(max_colour_value);
+    return glm::min(glm::vec3(std::pow(ks.x, k), std::pow(ks.y, k), std::pow(ks.z, k)), glm::vec3(cap));
 }
 
 }  // namespace
@@ -123,7 +125,8 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
 
     const float n_dot_v = glm::dot(n, to_eye);
     // A5 ambient, or B5: the GI estimate replaces it.
-    glm::vec3 colour = setup_.gi_map ? kd * photon_estimate(*setup_.gi_map, hit.position, setup_.gi_neighbours, counters) * n_dot_v
+    glm::vec3 colour = setup_.gi_map ? saturate_signed(kd * photon_estimate(*setup_.gi_map, hit.position,
+                                                                             setup_.gi_neighbours, counters) * n_dot_v)
                                      : setup_.ambient * kd;
     for (std::size_t l = 0; l < setup_.lights.size(); ++l) {
         const Light& light = setup_.lights[l];
@@ -132,18 +135,20 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
         if (!direction_to_light(light, hit.position, to_light, distance) || glm::dot(n, to_light) <= 0.0f) continue;
         const float known = known_visibility && l < static_cast<std::size_t>(packet_lights) ? known_visibility[l] : -1.0f;
         const float o = known >= 0.0f ? known : light_visibility(light, hit.position, counters);
-        colour += phong_light(light, o, hit.position, n, to_eye, kd, ks_weighted, m.shininess, setup_.unit_distance);
+        colour = saturate_signed(colour + phong_light(light, o, hit.position, n, to_eye, kd, ks_weighted, m.shininess,
+                                                      setup_.unit_distance));
     }
     // B5: the caustic term, E (n.v); kd is already in the photons.
     if (setup_.caustic_map && setup_.caustic_map->size() > min_caustic_photons && receives)
-        colour += photon_estimate(*setup_.caustic_map, hit.position, setup_.caustic_neighbours, counters) * n_dot_v;
+        colour = saturate_signed(colour + photon_estimate(*setup_.caustic_map, hit.position, setup_.caustic_neighbours,
+                                                          counters) * n_dot_v);
     // --draw-caustic-prm: tint the surface green where a light's projection map is occupied.
     for (const auto& [map, light] : setup_.projection_maps) {
         const glm::vec3 d = hit.position - light;
         const float length = glm::length(d);
         if (map && length > 0.0f && map->occupied(d / length)) colour = 0.5f * colour + glm::vec3(0.05f, 0.35f, 0.05f);
     }
-    return saturate(colour);
+    return saturate_signed(colour);
 }
 
 glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int depth, float weight,
@@ -166,9 +171,9 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
         if (m.reflective && next > min_weight) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
-            colour += m.ks * trace(reflected, depth + 1, next, counters).colour;
+            colour = saturate_signed(colour + m.ks * trace(reflected, depth + 1, next, counters).colour);
         }
-        return saturate(colour);
+        return colour;
     }
 
     // A6/B1: the media on either side. A CSG surface names them; a plain object is its own
@@ -192,7 +197,8 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
     if (reflect_weight > min_weight) {
         ++counters.reflected;
         const Ray reflected{hit.position, glm::reflect(ray.direction, facing), eps, ray_infinity};
-        colour += reflectance * materials_ks * trace(reflected, depth + 1, reflect_weight, counters).colour;
+        colour = saturate_signed(colour + reflectance * materials_ks *
+                                              trace(reflected, depth + 1, reflect_weight, counters).colour);
     }
     const float transmit_weight = weight * luma((1.0f - reflectance) * materials_ks);
     glm::vec3 direction;
@@ -200,10 +206,11 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
         refract_direction(ray.direction, facing, n1, n2, direction)) {
         ++counters.refracted;
         const Traced through = trace(Ray{hit.position, direction, eps, ray_infinity}, depth + 1, transmit_weight, counters);
-        colour += (1.0f - reflectance) * segment_transmittance(segment_ks, through.distance, setup_.unit_distance) *
-                  through.colour;
+        colour = saturate_signed(colour + (1.0f - reflectance) *
+                                              segment_transmittance(segment_ks, through.distance, setup_.unit_distance) *
+                                              through.colour);
     }
-    return saturate(colour);
+    return colour;
 }
 
 }  // namespace caustica

@@ -31,4 +31,13 @@ inline float saturate(float x) { return x > max_radiance ? max_radiance : x; }
 /// saturate per component.
 inline glm::vec3 saturate(const glm::vec3& v) { return {saturate(v.x), saturate(v.y), saturate(v.z)}; }
 
+/// Caps a value of either sign at +-max_radiance: the classic integrator's terms carry n.v
+/// unflipped (SEED_BEHAVIOUR.md B1, B5) and go negative on surfaces seen from behind.
+inline float saturate_signed(float x) { return x < -max_radiance ? -max_radiance : saturate(x); }
+
+/// saturate_signed per component.
+inline glm::vec3 saturate_signed(const glm::vec3& v) {
+    return {saturate_signed(v.x), saturate_signed(v.y), saturate_signed(v.z)};
+}
+
 }  // namespace caustica

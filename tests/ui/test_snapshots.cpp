@@ -164,8 +164,9 @@ TEST(Snapshot, ImageRegionMatchesABatchRenderOfTheSameView) {
     ASSERT_EQ(batch.height, layout.image_height);
     EXPECT_EQ(layout.scale, 3.0f);  // 256 x 192 in the 910 x 720 image area: magnified three times
     // Same job, same seed: the float images are identical. The batch encodes with
-    // lround(255 v); the display shader's output goes through GL's float-to-unorm conversion,
-    // which the GL spec lets round either way: at most one step apart, per channel.
+    // floor(255 v) (A7: the PNG truncates), so the display must show floor(255 v) / 255 too; GL's
+    // float-to-unorm conversion of that may round either way: at most one step apart, per
+    // channel, and only where the float product lands a hair off a whole step.
     int worst = 0;
     long differing = 0;
     for (int y = 0; y < batch.height; ++y)
