@@ -127,6 +127,7 @@ scene:add_child(paperweight)
 
 light = gr.light({4.0, 9.0, 7.0}, {0.95, 0.95, 0.9}, {0.7, 0, 0.0025})
 
+-- gr.render's angle is the horizontal one (SEED_BEHAVIOUR.md A7): 60.8 across a 16:10 image.
 gr.render(scene, 'csg_showcase.png', 640, 400,
-          {0, 4.4, 8.5}, {0, -3.7, -8.5}, {0, 1, 0}, 38,
+          {0, 4.4, 8.5}, {0, -3.7, -8.5}, {0, 1, 0}, 60.8,
           {0.3, 0.3, 0.3}, {light})

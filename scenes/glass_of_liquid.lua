@@ -7,8 +7,9 @@ table_top = gr.material({0.75, 0.72, 0.66}, {0, 0, 0}, 0)
 wall_mat = gr.material({0.55, 0.6, 0.68}, {0, 0, 0}, 0)
 glass = gr.material({0, 0, 0}, {0.95, 0.95, 0.95}, 120)
 glass:set_ri(1.5)
--- A transparent material's kd is its medium colour: per unit distance light keeps kd of itself.
-wine = gr.material({0.85, 0.25, 0.2}, {0.95, 0.95, 0.95}, 120)
+-- A transparent material's ks is its medium colour (SEED_BEHAVIOUR.md A6): per unit distance light
+-- keeps ks of itself, and its reflections are tinted by it too.
+wine = gr.material({0, 0, 0}, {0.85, 0.25, 0.2}, 120)
 wine:set_ri(1.34)
 
 scene = gr.node('scene')
@@ -49,6 +50,7 @@ lamp = gr.light({-2.5, 3.0, 1.5}, {1.3, 1.25, 1.2}, {0.3, 0, 0.06})
 
 -- The glass covers about 1% of the lamp's sphere: 2e7 directions trace some 200 000 photons.
 gr.option('--caustic-num-photons 20000000 --caustic-num-neighbours 120')
+-- 50.67 degrees across (A7: gr.render's angle is the horizontal one) is 38 degrees from top to bottom.
 gr.render(scene, 'glass_of_liquid.png', 640, 480,
-          {0.2, 2.4, 5.2}, {0, -0.42, -1}, {0, 1, 0}, 38,
+          {0.2, 2.4, 5.2}, {0, -0.42, -1}, {0, 1, 0}, 50.67,
           {0.12, 0.12, 0.14}, {lamp})

@@ -39,6 +39,7 @@ lamp = gr.light({-2.0, 3.5, 2.0}, {0.9, 0.88, 0.8}, {1, 0, 0})
 lamp:set_radius(0.6)
 
 gr.option('--shadow-grid 6')
+-- gr.render's angle is the horizontal one (SEED_BEHAVIOUR.md A7): 72 across a 16:10 image.
 gr.render(scene, 'soft_shadows.png', 640, 400,
-          {0, 2.2, 6}, {0, -0.35, -1}, {0, 1, 0}, 45,
+          {0, 2.2, 6}, {0, -0.35, -1}, {0, 1, 0}, 72,
           {0.15, 0.15, 0.17}, {lamp})

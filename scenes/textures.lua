@@ -90,6 +90,7 @@ key:set_radius(0.6)
 fill = gr.light({7, 4, 6}, {0.25, 0.25, 0.3}, {1, 0, 0})
 
 gr.set_miss_colour({0.08, 0.1, 0.15})
+-- gr.render's angle is the horizontal one (SEED_BEHAVIOUR.md A7): 72 across a 16:10 image.
 gr.render(scene, 'textures.png', 640, 400,
-          {0, 4.5, 10.5}, {0, -4.8, -10.5}, {0, 1, 0}, 45,
+          {0, 4.5, 10.5}, {0, -4.8, -10.5}, {0, 1, 0}, 72,
           {0.2, 0.2, 0.2}, {key, fill})

@@ -8,9 +8,10 @@ table_top = gr.material({0.75, 0.72, 0.66}, {0, 0, 0}, 0)
 wall_mat = gr.material({0.55, 0.6, 0.68}, {0, 0, 0}, 0)
 glass = gr.material({0, 0, 0}, {1, 1, 1}, 120)
 glass:set_ri(1.5)
--- A transparent material's kd is its medium colour: per unit distance light keeps kd of itself
+-- A transparent material's ks is its medium colour (SEED_BEHAVIOUR.md A6): per unit distance light
+-- keeps ks of itself, and its reflections are tinted by it too.
 -- (POV-Ray: fade_power 1001, fade_distance 1 / ln 5, fade_color 1 + ln(kd) / ln 5).
-wine = gr.material({0.85, 0.25, 0.2}, {1, 1, 1}, 120)
+wine = gr.material({0, 0, 0}, {0.85, 0.25, 0.2}, 120)
 wine:set_ri(1.34)
 
 scene = gr.node('scene')

@@ -70,7 +70,7 @@ wall() {
 
 # caustica_run SCENE DIRECTIONS PNG: one render; leaves PNG.log and PNG.time.
 caustica_run() {
-  wall "$3.time" "$3.log" "$build/caustica" render -S --threads "$threads" --disable-aa "${resolution_flag[$size]}" \
+  wall "$3.time" "$3.log" "$build/caustica" render -S --integrator progressive --threads "$threads" --disable-aa "${resolution_flag[$size]}" \
     --caustic-num-photons "$2" --caustic-num-neighbours "$neighbours" "$here/$1.lua" -o "$3"
 }
 # povray_run SCENE COUNT PNG: one render; leaves PNG.log and PNG.time.
@@ -115,7 +115,7 @@ measure() {
   local scene
   for scene in $scenes; do
     echo "== $scene"
-    "$build/caustica" render -s --threads "$threads" --disable-aa "${resolution_flag[$size]}" --no-caustic-map \
+    "$build/caustica" render -s --integrator progressive --threads "$threads" --disable-aa "${resolution_flag[$size]}" --no-caustic-map \
       "$here/$scene.lua" -o "$out/$scene-no-caustics.png"
     # Stored photons per photon requested, to match the two renderers' stored counts.
     caustica_run "$scene" 2000000 "$out/$scene-calibrate-caustica.png"
