@@ -3,6 +3,7 @@
 // each debug view on photons placed by hand, and switching integrator in a session.
 #include "core/geometry/render_scene.h"
 #include "core/integrators/classic.h"
+#include "core/photons/caustic_stage.h"
 #include "core/photons/classic_photons.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene_flatten.h"
@@ -10,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 using namespace caustica;
@@ -220,3 +223,31 @@ TEST(ClassicTransport, SwitchingIntegratorKeepsTheSceneAndRedoesThePhotons) {
     EXPECT_NE(session.image().pixels, classic.pixels);
 }
 
+
+// B4's projection map only saves time: the classic pass skips whole emission cells the map
+// cannot reach (and then single directions), and stores exactly the photons it stores without it.
+TEST(ClassicTransport, ProjectionMapSkipsCellsWithoutChangingThePhotons) {
+    JobBuilder b = caustica::testing::virtual_light_scene(false);
+    b.job.options.caustic_num_photons = 3'000'000;
+    const auto photons = [&](ProjectionMapMode mode, long long& traced) {
+        b.job.options.projection_map = mode;
+        const RenderJob job = b.build();
+        const RenderScene scene(*job.scene, flatten_scene(*job.scene, job.root, false));
+        CausticStage stage;
+        build_caustic_stage(stage, scene, job, nullptr);
+        traced = stage.lights.at(0).traced;
+        std::vector<std::array<float, 6>> out;
+        for (std::size_t i = 0; i < stage.map->size(); ++i) {
+            const Photon& p = stage.map->photon(i);
+            out.push_back({p.position.x, p.position.y, p.position.z, p.power.x, p.power.y, p.power.z});
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    long long traced_on = 0, traced_off = 0;
+    const auto on = photons(ProjectionMapMode::on, traced_on);
+    const auto off = photons(ProjectionMapMode::off, traced_off);
+    EXPECT_GT(on.size(), 10000u);
+    EXPECT_EQ(on, off);
+    EXPECT_LT(traced_on, traced_off / 2);  // the map kept the directions towards the mirror only
+}

@@ -159,6 +159,39 @@ glm::vec3 direction_in_cell(const glm::dvec3& a, const glm::dvec3& b, const glm:
     return glm::vec3(glm::normalize(p));
 }
 
+/// Whether any direction of the spherical cell (a, b, c) can fall in a set cell of the
+/// projection map: the map cells over the rows and columns its vertices span, widened by one
+/// each way for the arcs' bulge (and all columns when the cell is near a pole or its longitudes
+/// wrap widely). Conservative: a cell it rejects holds no photon the map would keep, so skipping
+/// its photons changes nothing but the time (the per-photon test stays).
+bool cell_may_reach_map(const ProjectionMap& map, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const glm::dvec3 v[3] = {glm::normalize(a), glm::normalize(b), glm::normalize(c)};
+    const int rows = map.rows(), columns = map.columns();
+    int row_lo = rows, row_hi = -1;
+    double phi[3];
+    bool near_pole = false;
+    for (int i = 0; i < 3; ++i) {
+        const int row = static_cast<int>(std::acos(std::clamp(v[i].y, -1.0, 1.0)) / pi * rows);
+        row_lo = std::min(row_lo, row), row_hi = std::max(row_hi, row);
+        near_pole = near_pole || std::fabs(v[i].y) > 0.999;
+        phi[i] = std::atan2(v[i].z, v[i].x) / (2.0 * pi);
+        if (phi[i] < 0.0) phi[i] += 1.0;
+    }
+    row_lo = std::max(0, row_lo - 1), row_hi = std::min(rows - 1, row_hi + 1);
+    double lo = std::min({phi[0], phi[1], phi[2]}), hi = std::max({phi[0], phi[1], phi[2]});
+    if (hi - lo > 0.5) {  // the cell straddles phi = 0: measure it the other way round
+        for (double& p : phi)
+            if (p < 0.5) p += 1.0;
+        lo = std::min({phi[0], phi[1], phi[2]}), hi = std::max({phi[0], phi[1], phi[2]});
+    }
+    int column_lo = static_cast<int>(std::floor(lo * columns)) - 1, column_hi = static_cast<int>(std::floor(hi * columns)) + 1;
+    if (near_pole || hi - lo > 0.25) column_lo = 0, column_hi = columns - 1;
+    for (int row = row_lo; row <= row_hi; ++row)
+        for (int column = column_lo; column <= column_hi; ++column)
+            if (map.cell(row, ((column % columns) + columns) % columns)) return true;
+    return false;
+}
+
 /// The diffuse choice, the specular one or absorption, by the cumulative luma odds (B4).
 enum class Choice { diffuse, specular, absorbed };
 
@@ -194,7 +227,7 @@ void shoot_light(const RenderScene& scene, const TextureSet* textures, const Lig
             auto visit = [&](long long cell, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
                 const long long count = cell_photons(requested, cell_solid_angle(a, b, c), cell);
                 offered[block] += count;
-                if (count == 0) return;
+                if (count == 0 || (map && !cell_may_reach_map(*map, a, b, c))) return;
                 const double h = std::fabs(glm::dot(glm::normalize(glm::cross(b - a, c - a)), a));
                 const double min_radius = cell_min_radius(a, b, c, h);
                 for (long long j = 0; j < count; ++j) {
