@@ -130,6 +130,7 @@ RenderJob load_lua_job(const ReferenceRecipe& recipe, int threads) {
     job.height = recipe.height;
     job.options.resolution_override = 0;
     set_caustics_only(job.options, threads);
+    job.miss_colour = glm::dvec3(0.0);  // caustics only: rays that leave the scene add nothing
     return job;
 }
 
@@ -195,6 +196,7 @@ TradeScene virtual_light(int threads) {
     caustica::testing::JobBuilder builder = caustica::testing::virtual_light_scene(false);
     builder.job.width = builder.job.height = 256;
     set_caustics_only(builder.job.options, threads);
+    builder.job.miss_colour = glm::dvec3(0.0);  // caustics only: rays that leave the scene add nothing
     TradeScene scene;
     scene.name = "virtual_light";
     scene.job = builder.build();

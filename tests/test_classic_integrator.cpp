@@ -278,3 +278,25 @@ TEST(ClassicAntialiasing, SmallGridsAverageEverySample) {
     b.job.options.aa_grid = 2;  // samples at 1/4 and 3/4: the stripe over [0.03, 0.3] holds the left ones
     expect_colour(render_aa(b), glm::vec3(0.5f), 1e-6f, "2 of 4");
 }
+
+// B1 leaves open what colours a transmitted segment that hits nothing: we attenuate nothing
+// there (an infinite ks^d would turn everything seen through a tinted plain object black).
+TEST(ClassicMedia, ASegmentLeavingTheSceneIsNotAttenuated) {
+    JobBuilder b = tinted_slab({0.5, 0.8, 1.0}, 1.0, false);
+    // tinted_slab's nodes: 0 the root, 1 its scaled group, 2 the slab, 3 the wall (last child of 1).
+    ASSERT_EQ(b.scene->nodes[1].children.back(), 3);
+    b.scene->nodes[1].children.pop_back();  // no wall behind the slab
+    b.job.ambient = {0, 0, 0};
+    const glm::vec3 expected(std::pow(0.5f, 0.5f), std::pow(0.8f, 0.5f), 1.0f);  // inside only, then the white miss
+    expect_colour(render_one_pixel(b, IntegratorKind::classic), expected, 1e-4f, "ks^0.5 x white");
+}
+
+// A9: --shadow-grid also turns soft shadows on.
+TEST(ClassicShadows, ShadowGridTurnsSoftShadowsOn) {
+    Options o;
+    apply_option_tokens(o, {"--no-soft-shadows", "--shadow-grid", "4"});
+    EXPECT_FALSE(o.no_soft_shadows);
+    EXPECT_EQ(o.shadow_grid, 4);
+    apply_option_tokens(o, {"--no-soft-shadows"});
+    EXPECT_TRUE(o.no_soft_shadows);  // a later --no-soft-shadows wins
+}

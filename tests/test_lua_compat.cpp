@@ -95,6 +95,10 @@ TEST(LuaCompat, MathModIsFmod) {
 TEST(LuaCompat, MathPow) {
     EXPECT_EQ(warnings_of("warn(string.format('%g %g %g', math.pow(2, 10), math.pow(4, 0.5), math.pow(2, -1)))\n"),
               (std::vector<std::string>{"1024 2 0.5"}));
+    // 5.1 printed whole numbers without ".0": names built from pow keep their 5.1 spelling.
+    EXPECT_EQ(warnings_of("warn('tex' .. math.pow(2, 3) .. '.png', ' ', tostring(math.pow(2, 0.5) > 1.41), ' ', "
+                          "tostring(math.pow(2, -1)))\n"),
+              (std::vector<std::string>{"tex8.png true 0.5"}));
 }
 
 TEST(LuaCompat, LoadstringRunsTextInTheGlobals) {

@@ -85,7 +85,8 @@ TEST(BeerLambert, TransmittanceIsColourToTheDistanceInUnits) {
     EXPECT_NEAR(t.y, 0.0625f, 1e-6f);
     EXPECT_NEAR(t.z, 1.0f, 1e-6f);
     EXPECT_NEAR(medium_transmittance({0.5f, 0.5f, 0.5f}, 2.0f, 2.0f).x, 0.5f, 1e-6f);  // unit distance scales
-    EXPECT_EQ(medium_transmittance(glm::vec3(0.0f), 100.0f, 1.0f), glm::vec3(1.0f));  // colourless
+    EXPECT_EQ(medium_transmittance(glm::vec3(1.0f), 100.0f, 1.0f), glm::vec3(1.0f));  // white: clear
+    EXPECT_EQ(medium_transmittance(glm::vec3(0.0f), 0.5f, 1.0f), glm::vec3(0.0f));  // A6: ks = 0 passes nothing
 }
 
 TEST(BeerLambert, ASlabOfColouredMediumDimsTheBackgroundAsTheFormulaSays) {

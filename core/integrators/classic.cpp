@@ -12,10 +12,11 @@
 namespace caustica {
 namespace {
 
-/// ks^(d/d_u) per channel; an infinite segment keeps only the channels with ks >= 1 (B1, A6).
+/// ks^(d/d_u) per channel (B1, A6), d the distance to the segment's next hit.
 glm::vec3 segment_transmittance(const glm::vec3& ks, float distance, float unit_distance) {
-    if (ks == glm::vec3(1.0f)) return ks;
-    if (!std::isfinite(distance)) return glm::vec3(ks.x >= 1.0f, ks.y >= 1.0f, ks.z >= 1.0f) * glm::min(ks, glm::vec3(1.0f));
+    // A transmitted ray that leaves the scene has no next surface: B1 is silent there, and we
+    // attenuate nothing rather than turn everything seen through a tinted object black.
+    if (ks == glm::vec3(1.0f) || !std::isfinite(distance)) return glm::vec3(1.0f);
     const float k = distance / unit_distance;
     // ks above 1 amplifies: capped as the inputs are (radiance_range.h).
     constexpr float cap = static_cast<float>(max_colour_value);
@@ -163,11 +164,11 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
     }
     const glm::vec3 to_eye = -ray.direction;
     const float eps = setup_.scene->epsilon();
-    const glm::vec3& materials_ks = m.air ? glm::vec3(1.0f) : m.ks;
+    const glm::vec3 materials_ks = m.air ? glm::vec3(1.0f) : m.ks;  // gr.air() is a pure interface
 
     if (!m.transparent) {
         glm::vec3 colour = surface_colour(m, hit, n, to_eye, kd, m.ks, known_visibility, counters);
-        const float next = weight * luma(m.ks);
+        const float next = weight * luma(glm::min(m.ks, glm::vec3(1.0f)));  // ks > 1 must not lift the cut
         if (m.reflective && next > min_weight) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
@@ -193,14 +194,15 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
     const float reflectance = fresnel_reflectance(n1, n2, glm::dot(facing, to_eye));
 
     glm::vec3 colour = surface_colour(m, hit, n, to_eye, kd, reflectance * m.ks, known_visibility, counters);
-    const float reflect_weight = weight * luma(reflectance * materials_ks);
+    const glm::vec3 ks_cut = glm::min(materials_ks, glm::vec3(1.0f));  // ks > 1 must not lift the cut
+    const float reflect_weight = weight * luma(reflectance * ks_cut);
     if (reflect_weight > min_weight) {
         ++counters.reflected;
         const Ray reflected{hit.position, glm::reflect(ray.direction, facing), eps, ray_infinity};
         colour = saturate_signed(colour + reflectance * materials_ks *
                                               trace(reflected, depth + 1, reflect_weight, counters).colour);
     }
-    const float transmit_weight = weight * luma((1.0f - reflectance) * materials_ks);
+    const float transmit_weight = weight * luma((1.0f - reflectance) * ks_cut);
     glm::vec3 direction;
     if (transmit_weight > min_weight && reflectance < 0.99f &&
         refract_direction(ray.direction, facing, n1, n2, direction)) {

@@ -13,7 +13,13 @@ namespace {
 
 /// math.pow(x, y) = x ^ y.
 int math_pow(lua_State* L) {
-    lua_pushnumber(L, std::pow(luaL_checknumber(L, 1), luaL_checknumber(L, 2)));
+    const lua_Number result = std::pow(luaL_checknumber(L, 1), luaL_checknumber(L, 2));
+    // 5.1 printed a whole double without ".0": names built from pow ("tex" .. math.pow(2, 3)) stay
+    // the same when integer arguments give a whole result that fits an integer.
+    if (lua_isinteger(L, 1) && lua_isinteger(L, 2) && result == std::floor(result) && std::fabs(result) < 9.0e15)
+        lua_pushinteger(L, static_cast<lua_Integer>(result));
+    else
+        lua_pushnumber(L, result);
     return 1;
 }
 

@@ -344,7 +344,14 @@ int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, C
             ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
             continue;
         }
-        const MediumTransition t = medium_transition(hit, ray.direction, media);
+        // The media as the classic view rays see them (B1): a CSG surface names both sides; a
+        // plain object is its own material inside and air outside.
+        MediumTransition t = medium_transition(hit, ray.direction, media);
+        if (!hit.in_csg) {
+            const bool entering = glm::dot(hit.normal, ray.direction) < 0.0f;
+            t.from = entering ? -1 : hit.material;
+            t.to = entering ? hit.material : -1;
+        }
         const float n1 = t.from < 0 ? 1.0f : materials[t.from].refractive_index;
         const float n2 = t.to < 0 ? 1.0f : materials[t.to].refractive_index;
         const float reflectance = fresnel_reflectance(n1, n2, -glm::dot(n, ray.direction));

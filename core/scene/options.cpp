@@ -176,8 +176,12 @@ const std::vector<OptionSpec>& option_table() {
                 64),
         real("min-weight", "optics", "progressive: end a ray path when its weight falls below this (classic: B1's 0.02 luma)", &Options::min_weight, 0.0, 1.0),
         flag("no-soft-shadows", 0, "lights", "treat spherical lights as points", &Options::no_soft_shadows),
-        integer("shadow-grid", 0, "lights", "soft shadows: N x N samples on a spherical light", &Options::shadow_grid, 1,
-                64),
+        {"shadow-grid", 0, "N", "lights", "soft shadows: N x N samples on a spherical light (turns soft shadows on, A9)",
+         [](Options& o, const std::string& v) {
+             o.shadow_grid = static_cast<int>(parse_integer("shadow-grid", v, 1, 64));
+             o.no_soft_shadows = false;
+         },
+         [](const Options& o) { return std::to_string(o.shadow_grid); }},
         flag("rays", 0, "output", "orange sunburst background instead of the miss colour", &Options::rays),
         flag("srgb", 0, "output", "encode sRGB in the PNG (default: clamped linear, as the seed)", &Options::srgb),
         resolution("minres", "render at 100 x 100", 100),

@@ -16,8 +16,8 @@ struct Material {
     bool transparent = false;      ///< dielectric (set_ri) or air: Fresnel split of ks
     float refractive_index = 1.0f;
     bool air = false;              ///< gr.air(): an empty medium, index 1, no surface of its own
-    /// Colour of a transparent material's medium per unit distance (A6: its ks; 0 = clear, as air).
-    glm::vec3 medium_colour{0.0f};
+    /// Colour of a transparent material's medium per unit distance (A6: its ks; air and opaque: 1).
+    glm::vec3 medium_colour{1.0f};
 
     /// Converts the scene description's material.
     static Material from_desc(const MaterialDesc& desc) {
@@ -29,7 +29,7 @@ struct Material {
         m.air = desc.air;
         m.transparent = desc.refractive_index.has_value() || desc.air;
         m.refractive_index = desc.air ? 1.0f : static_cast<float>(desc.refractive_index.value_or(1.0));
-        m.medium_colour = m.transparent && !m.air ? m.ks : glm::vec3(0.0f);
+        m.medium_colour = m.transparent && !m.air ? m.ks : glm::vec3(1.0f);
         return m;
     }
 };

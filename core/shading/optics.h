@@ -39,11 +39,11 @@ inline bool refract_direction(const glm::vec3& d, const glm::vec3& n, float n1, 
 
 /// Beer-Lambert transmittance of a coloured medium over a distance: the medium keeps the
 /// fraction `colour` of each channel per unit distance, T = colour^(distance / unit_distance).
-/// A colour of exactly (0,0,0) means a colourless medium (T = 1): that is how scenes write
-/// clear glass (kd = 0). A colour above 1 amplifies: the result is capped at max_colour_value so
+/// The colour is the material's ks (SEED_BEHAVIOUR.md A6): ks = 0 lets nothing through, white
+/// (and air) is clear. A colour above 1 amplifies: the result is capped at max_colour_value so
 /// that it multiplies a saturated radiance without overflow (radiance_range.h).
 inline glm::vec3 medium_transmittance(const glm::vec3& colour, float distance, float unit_distance) {
-    if (colour == glm::vec3(0.0f)) return glm::vec3(1.0f);
+    if (colour == glm::vec3(1.0f)) return colour;
     if (!std::isfinite(distance)) return glm::vec3(colour.x >= 1.0f, colour.y >= 1.0f, colour.z >= 1.0f);
     const float k = distance / unit_distance;
     constexpr float cap = static_cast<float>(max_colour_value);
