@@ -192,6 +192,7 @@ TradeScene virtual_light(int threads) {
     truth_builder.job.width = truth_builder.job.height = 256;
     truth_builder.job.options.threads = threads;
     truth_builder.job.options.integrator = IntegratorKind::progressive;  // the analytic virtual light's physics
+    truth_builder.job.miss_colour = glm::dvec3(0.0);  // as the caustics-only job below
     const RenderJob truth_job = truth_builder.build();
     caustica::testing::JobBuilder builder = caustica::testing::virtual_light_scene(false);
     builder.job.width = builder.job.height = 256;
