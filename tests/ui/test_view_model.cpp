@@ -95,6 +95,27 @@ TEST(ViewModel, PhotonKnobsShootAgainWithoutRebuildingTheScene) {
     EXPECT_EQ(after.scene_builds, before.scene_builds);
 }
 
+TEST(ViewModel, SwitchingIntegratorReshootsWithoutRebuildingAndSurvivesAReload) {
+    LoadedModel m;
+    EXPECT_EQ(m.model.knobs().integrator, IntegratorKind::classic);  // the default
+    EXPECT_EQ(m.model.driver().stats().integrator, "classic");
+    const auto before = m.model.stage_counters();
+    CausticKnobs k = m.model.knobs();
+    k.integrator = IntegratorKind::progressive;
+    m.model.set_knobs(k);
+    ASSERT_TRUE(run_until_finished(m.model));
+    const auto after = m.model.stage_counters();
+    EXPECT_EQ(after.photon_passes, before.photon_passes + 1);
+    EXPECT_EQ(after.scene_builds, before.scene_builds);
+    EXPECT_EQ(m.model.driver().stats().integrator, "progressive");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    m.folder.write("scene.lua", caustic_box_text(300000));
+    ASSERT_TRUE(run_until(m.model, [&] {
+        return m.model.driver().job().options.caustic_num_photons == 300000 && m.model.driver().finished();
+    }, 30.0));
+    EXPECT_EQ(m.model.driver().job().options.integrator, IntegratorKind::progressive);  // the person's choice stays
+}
+
 TEST(ViewModel, DisplaySettingsAndOverlayNeverRender) {
     LoadedModel m;
     const std::uint64_t restarts = m.model.driver().restarts();
