@@ -256,7 +256,7 @@ constexpr double time_factor = caustica::sanitized_build ? 3.0 : 1.0;  // saniti
 std::pair<int, double> interrupt_the_write(const fs::path& dir, const std::vector<int>& signals) {
     std::string scene = small_scene;
     scene.replace(scene.find("40, 30"), 6, "4000, 4000");
-    std::ofstream(dir / "big.lua") << "gr.option('--threads 2')\n" + scene;
+    std::ofstream(dir / "big.lua") << "gr.option('--threads 2 --disable-aa')\n" + scene;  // the write is what matters
     const std::string binary = CAUSTICA_BINARY;
     const std::string scene_path = (dir / "big.lua").string();
     const std::string out_path = (dir / "out.png").string();

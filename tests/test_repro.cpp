@@ -231,7 +231,7 @@ TEST(ReproSandbox, M1_OutputFolderRemovedWhileRenderingExits1) {
     fs::create_directories(s.root() / "out");
     Launch run;
     run.cwd = s.root();
-    run.args = {"render", "-s", "big.lua", "-o", "out/big.png"};
+    run.args = {"render", "-s", "--disable-aa", "big.lua", "-o", "out/big.png"};  // one sample a pixel: the write is what matters
     run.limits.wall_seconds = 20.0 * time_factor();
     bool removed = false;
     run.tick = [&](double t, pid_t, const std::string&) {
@@ -415,7 +415,7 @@ struct AtomicCase {
     Outcome run(const std::function<void(double, pid_t)>& act, bool& acted) {
         Launch run;
         run.cwd = s.root();
-        run.args = {"render", "-s", "big.lua", "-o", (out_dir / "out.png").string()};
+        run.args = {"render", "-s", "--disable-aa", "big.lua", "-o", (out_dir / "out.png").string()};  // the write is what matters
         run.limits.wall_seconds = 30.0 * time_factor();
         const Tree initial = snapshot(out_dir);
         run.tick = [&, initial](double t, pid_t child, const std::string&) {
