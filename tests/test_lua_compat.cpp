@@ -5,6 +5,7 @@
 #include "core/lua/scene_loader.h"
 #include "core/lua/lua_random51.h"
 #include "core/geometry/mesh_obj.h"
+#include "tests/scene_test_helpers.h"
 #include "tests/temp_folder.h"
 
 #include <gtest/gtest.h>
@@ -25,15 +26,7 @@ namespace {
 using scene_lua::GlibcRandom;
 using testing::TempFolder;
 
-/// The message of the InputError that loading `path` throws ("(no error)" when it loads).
-std::string load_error(const std::string& path, const LoadSettings& settings = {}) {
-    try {
-        load_scene_script(path, settings);
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using testing::load_error;
 
 /// Runs `body` as s.lua (in the loader process) and returns what it passed to warn(), one entry a
 /// call, without the "file:line: " prefix.

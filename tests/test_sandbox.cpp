@@ -5,6 +5,7 @@
 #include "core/lua/scene_loader.h"
 #include "core/lua/scene_wire.h"
 #include "core/io/png_io.h"
+#include "tests/scene_test_helpers.h"
 #include "tests/temp_folder.h"
 
 #include <gtest/gtest.h>
@@ -23,15 +24,7 @@ namespace fs = std::filesystem;
 using testing::TempFolder;
 using Clock = std::chrono::steady_clock;
 
-/// The message of the InputError that loading `path` throws ("(no error)" when it loads).
-std::string load_error(const std::string& path, const LoadSettings& settings = {}) {
-    try {
-        load_scene_script(path, settings);
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using testing::load_error;
 
 double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();

@@ -8,6 +8,7 @@
 #include "core/shading/texture_image.h"
 #include "core/shading/texture_mapping.h"
 #include "core/shading/texture_procedural.h"
+#include "scene_test_helpers.h"
 #include "temp_folder.h"
 
 #include <gtest/gtest.h>
@@ -47,24 +48,12 @@ Tangents tangents(const Shape& shape, const glm::vec3& p, int face) {
     return t;
 }
 
-/// A hit at object point p with object space = world space, as RenderScene fills it.
-SurfaceHit hit_at(const Shape& shape, const glm::vec3& p, int face, const glm::vec3& outward) {
-    SurfaceHit hit;
-    hit.position = hit.object_position = p;
-    hit.normal = glm::normalize(outward);
-    hit.face = face;
-    hit.material = 0;
-    hit.shape_kind = static_cast<int>(shape.kind);
-    hit.uv = shape_uv(shape, p, face);
-    shape_tangents(shape, p, face, hit.dpdu, hit.dpdv);
-    return hit;
-}
 
 /// A hit on the centred cube's face (0..5 = -x,+x,-y,+y,-z,+z) at p.
 SurfaceHit cube_hit(int face, const glm::vec3& p) {
     glm::vec3 n(0.0f);
     n[face / 2] = face % 2 ? 1.0f : -1.0f;
-    return hit_at(cube, p, face, n);
+    return caustica::testing::shape_hit(cube, p, face, n);
 }
 
 /// A hit carrying only uv (on a sphere, so that uv is used as it is).
@@ -290,9 +279,9 @@ TEST(SceneLanguageRemaps, WindowsStretchToTheWholeImageBoundsIncluded) {
     expect_uv_near(texture_lookup(cube_hit(3, {1, 1, -1}), TextureRemap::cube_top).uv, {1, 1});
     expect_uv_near(texture_lookup(cube_hit(5, {-1, 1, 1}), TextureRemap::cube_front).uv, {0, 1});
     expect_uv_near(texture_lookup(cube_hit(2, {-1, -1, 1}), TextureRemap::cube_bottom).uv, {1, 0});
-    expect_uv_near(texture_lookup(hit_at(cylinder, {1, 1, 1}, 1, {0, 1, 0}), TextureRemap::cylinder_top).uv, {1, 1});
-    expect_uv_near(texture_lookup(hit_at(cone, {-1, -0.5f, -1}, 2, {0, -1, 0}), TextureRemap::cone_top).uv, {0, 0});
-    EXPECT_FALSE(texture_lookup(hit_at(cone, {0.5f, 0, 0}, 0, {1, 1, 0}), TextureRemap::cone_top).covered);
+    expect_uv_near(texture_lookup(caustica::testing::shape_hit(cylinder, {1, 1, 1}, 1, {0, 1, 0}), TextureRemap::cylinder_top).uv, {1, 1});
+    expect_uv_near(texture_lookup(caustica::testing::shape_hit(cone, {-1, -0.5f, -1}, 2, {0, -1, 0}), TextureRemap::cone_top).uv, {0, 0});
+    EXPECT_FALSE(texture_lookup(caustica::testing::shape_hit(cone, {0.5f, 0, 0}, 0, {1, 1, 0}), TextureRemap::cone_top).covered);
 }
 
 TEST(SceneLanguageRemaps, OutsideTheWindowATextureIsBlackAndABumpDoesNothing) {

@@ -4,6 +4,7 @@
 #include "core/geometry/mesh_obj.h"
 #include "core/io/png_io.h"
 #include "tests/course_scenes.h"
+#include "tests/scene_test_helpers.h"
 #include "tests/temp_folder.h"
 
 #include <gtest/gtest.h>
@@ -22,15 +23,7 @@ namespace fs = std::filesystem;
 
 using testing::TempFolder;
 
-/// The message of the InputError that loading `path` throws ("(no error)" when it loads).
-std::string load_error(const std::string& path, const LoadSettings& settings = {}) {
-    try {
-        load_scene_script(path, settings);
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using testing::load_error;
 
 const NodeDesc& node_named(const SceneDesc& scene, const std::string& name) {
     for (const NodeDesc& node : scene.nodes)

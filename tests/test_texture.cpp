@@ -9,6 +9,7 @@
 #include "core/shading/texture.h"
 #include "core/shading/texture_image.h"
 #include "core/shading/texture_procedural.h"
+#include "scene_test_helpers.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -115,18 +116,7 @@ SceneDesc textured_scene(const std::string& texture, const std::string& bumpmap 
     return scene;
 }
 
-/// A hit on an analytic shape placed with object space = world space, as RenderScene fills it.
-SurfaceHit shape_hit(const Shape& shape, const glm::vec3& p, int face, const glm::vec3& outward) {
-    SurfaceHit hit;
-    hit.position = hit.object_position = p;
-    hit.normal = glm::normalize(outward);
-    hit.face = face;
-    hit.material = 0;
-    hit.shape_kind = static_cast<int>(shape.kind);
-    hit.uv = shape_uv(shape, p, face);
-    shape_tangents(shape, p, face, hit.dpdu, hit.dpdv);
-    return hit;
-}
+using caustica::testing::shape_hit;
 
 const Shape unit_box{ShapeKind::box, glm::vec3(-1.0f), glm::vec3(1.0f)};
 

@@ -3,24 +3,18 @@
 #include "core/shading/optics.h"
 #include "core/util/radiance_range.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 namespace caustica {
 namespace {
 
-/// ks^(d/d_u) per channel (B1, A6), d the distance to the segment's next hit.
+/// ks^(d/d_u) per channel (B1, A6), d the distance to the segment's next hit. A transmitted ray
+/// that leaves the scene has no next surface: B1 is silent there, and we attenuate nothing rather
+/// than turn everything seen through a tinted object black.
 glm::vec3 segment_transmittance(const glm::vec3& ks, float distance, float unit_distance) {
-    // A transmitted ray that leaves the scene has no next surface: B1 is silent there, and we
-    // attenuate nothing rather than turn everything seen through a tinted object black.
-    if (ks == glm::vec3(1.0f) || !std::isfinite(distance)) return glm::vec3(1.0f);
-    const float k = distance / unit_distance;
-    // ks above 1 amplifies: capped as the inputs are (radiance_range.h).
-    constexpr float cap = static_cast<float>(max_colour_value);
-    return glm::min(glm::vec3(std::pow(ks.x, k), std::pow(ks.y, k), std::pow(ks.z, k)), glm::vec3(cap));
+    return std::isfinite(distance) ? medium_transmittance(ks, distance, unit_distance) : glm::vec3(1.0f);
 }
 
 }  // namespace
@@ -32,17 +26,9 @@ glm::vec3 ClassicIntegrator::trace_camera_ray(const Ray& ray, RandomStream&, Ray
 
 void ClassicIntegrator::trace_camera_rays8(const Ray* rays, const int* valid, RandomStream*, glm::vec3* out,
                                            RayCounters& counters) const {
-    SurfaceHit hits[8];
-    bool found[8];
-    setup_.scene->intersect8(rays, valid, hits, found);
-    float visibility[8][packet_lights];
-    primary_visibility8(setup_, rays, hits, found, false, true, visibility, counters);
-    for (int i = 0; i < 8; ++i) {
-        if (!valid[i]) continue;
-        ++counters.primary;
-        out[i] = found[i] ? shade(rays[i], hits[i], 0, 1.0f, visibility[i], counters)
-                          : background_colour(setup_, rays[i].direction);
-    }
+    trace_packet8(setup_, rays, valid, false, true, out, counters, [&](int i, const SurfaceHit& hit, const float* visibility) {
+        return shade(rays[i], hit, 0, 1.0f, visibility, counters);
+    });
 }
 
 float ClassicIntegrator::light_visibility(const Light& light, const glm::vec3& point, RayCounters& counters) const {
@@ -91,12 +77,11 @@ glm::vec3 ClassicIntegrator::photon_estimate(const PhotonMap& map, const glm::ve
 }
 
 glm::vec3 ClassicIntegrator::photon_dot(const PhotonMap* map, const glm::vec3& point) const {
-    if (!map || map->size() == 0) return glm::vec3(0.0f);
-    Neighbour one;
-    if (map->tree().nearest(point, 1, dot_radius, &one) != 1) return glm::vec3(0.0f);
-    const glm::vec3 power = map->photon(one.index).power;
-    const float length = glm::length(power);
-    return length > 0.0f ? power / length : glm::vec3(0.0f);
+    float distance = 0.0f;
+    const Photon* nearest = map ? map->nearest_photon(point, &distance) : nullptr;
+    if (!nearest || !(distance < dot_radius)) return glm::vec3(0.0f);
+    const float length = glm::length(nearest->power);
+    return length > 0.0f ? nearest->power / length : glm::vec3(0.0f);
 }
 
 ClassicIntegrator::Traced ClassicIntegrator::trace(const Ray& ray, int depth, float weight,

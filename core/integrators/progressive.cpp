@@ -31,22 +31,11 @@ glm::vec3 ProgressiveIntegrator::trace_camera_ray(const Ray& ray, RandomStream& 
 
 void ProgressiveIntegrator::trace_camera_rays8(const Ray* rays, const int* valid, RandomStream* streams,
                                                glm::vec3* out, RayCounters& counters) const {
-    SurfaceHit hits[8];
-    bool found[8];
-    setup_.scene->intersect8(rays, valid, hits, found);
-    float visibility[8][packet_lights];
-    primary_visibility8(setup_, rays, hits, found, true, false, visibility, counters);
-    for (int i = 0; i < 8; ++i) {
-        if (!valid[i]) continue;
-        ++counters.primary;
-        if (!found[i]) {
-            out[i] = background(rays[i].direction);
-            continue;
-        }
+    trace_packet8(setup_, rays, valid, true, false, out, counters, [&](int i, const SurfaceHit& hit, const float* visibility) {
         PathState path;
-        path.known_visibility = visibility[i];
-        out[i] = shade(rays[i], hits[i], path, streams[i], counters);
-    }
+        path.known_visibility = visibility;
+        return shade(rays[i], hit, path, streams[i], counters);
+    });
 }
 
 float ProgressiveIntegrator::medium_index(int material) const {

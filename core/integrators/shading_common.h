@@ -37,4 +37,22 @@ void primary_visibility8(const ShadingSetup& setup, const Ray* rays, const Surfa
                          bool flip_normals, bool grid1_is_point, float (*visibility)[packet_lights],
                          RayCounters& counters);
 
+/// The packet path of both integrators: intersects up to 8 camera rays, traces their point-light
+/// shadow rays as packets (primary_visibility8 with `flip_normals`, `grid1_is_point`), and
+/// writes shade(i, hit, visibility) for lanes that hit something, the background for the rest.
+template <typename Shade>
+void trace_packet8(const ShadingSetup& setup, const Ray* rays, const int* valid, bool flip_normals, bool grid1_is_point,
+                   glm::vec3* out, RayCounters& counters, Shade&& shade) {
+    SurfaceHit hits[8];
+    bool found[8];
+    setup.scene->intersect8(rays, valid, hits, found);
+    float visibility[8][packet_lights];
+    primary_visibility8(setup, rays, hits, found, flip_normals, grid1_is_point, visibility, counters);
+    for (int i = 0; i < 8; ++i) {
+        if (!valid[i]) continue;
+        ++counters.primary;
+        out[i] = found[i] ? shade(i, hits[i], visibility[i]) : background_colour(setup, rays[i].direction);
+    }
+}
+
 }  // namespace caustica

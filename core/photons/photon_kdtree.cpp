@@ -70,49 +70,25 @@ PhotonKdTree::PhotonKdTree(std::vector<glm::vec3> points) {
 std::uint32_t PhotonKdTree::nearest(const glm::vec3& query, std::uint32_t k, float max_distance,
                                     Neighbour* result) const {
     if (nodes_.empty() || k == 0) return 0;
-    float radius2 = max_distance * max_distance;
+    const float max2 = max_distance * max_distance;
     // Skip the whole search when the photons' bounds are out of reach.
     const glm::vec3 outside = glm::max(glm::max(lo_ - query, query - hi_), glm::vec3(0.0f));
-    if (glm::dot(outside, outside) >= radius2) return 0;
-
-    struct Pending {
-        std::uint32_t node;
-        float plane_distance2;
-    };
-    Pending stack[64];
-    int depth = 0;
+    if (glm::dot(outside, outside) >= max2) return 0;
     std::uint32_t count = 0;
-    std::uint32_t node = 0;
-    for (;;) {
-        const Node& n = nodes_[node];
-        if (n.axis_or_leaf != leaf_tag) {
-            const float d = query[n.axis_or_leaf] - n.split;
-            const std::uint32_t near = d < 0.0f ? node + 1 : n.a;
-            const std::uint32_t far = d < 0.0f ? n.a : node + 1;
-            if (d * d < radius2) stack[depth++] = {far, d * d};
-            node = near;
-            continue;
+    walk(query, max2, [&](std::uint32_t i, float d2) {
+        if (count < k) {
+            if (d2 >= max2) return max2;
+            result[count++] = {d2, i};
+            std::push_heap(result, result + count);
+            return count == k ? result[0].distance2 : max2;
         }
-        for (std::uint32_t i = n.a; i < n.b; ++i) {
-            const glm::vec3 v = points_[i] - query;
-            const float d2 = glm::dot(v, v);
-            if (d2 >= radius2) continue;
-            if (count < k) {
-                result[count++] = {d2, i};
-                std::push_heap(result, result + count);
-                if (count == k) radius2 = result[0].distance2;
-            } else {
-                std::pop_heap(result, result + k);
-                result[k - 1] = {d2, i};
-                std::push_heap(result, result + k);
-                radius2 = result[0].distance2;
-            }
+        if (d2 < result[0].distance2) {
+            std::pop_heap(result, result + k);
+            result[k - 1] = {d2, i};
+            std::push_heap(result, result + k);
         }
-        // Resume at the nearest pending subtree still within reach.
-        while (depth > 0 && stack[depth - 1].plane_distance2 >= radius2) --depth;
-        if (depth == 0) break;
-        node = stack[--depth].node;
-    }
+        return result[0].distance2;
+    });
     return count;
 }
 
@@ -120,45 +96,22 @@ std::uint32_t PhotonKdTree::nearest_always(const glm::vec3& query, std::uint32_t
                                            Neighbour* result) const {
     if (nodes_.empty() || k == 0) return 0;
     const float prune2 = prune_distance * prune_distance;
-    struct Pending {
-        std::uint32_t node;
-        float plane_distance2;
-    };
-    Pending stack[64];  // the tree is balanced: its depth is about log2(n / leaf_size) < 32
-    int depth = 0;
     std::uint32_t count = 0;
-    // Subtrees farther than this are skipped: nothing until k are held, then the smaller of the
+    // Subtrees farther than the bound are skipped: none until k are held, then the smaller of the
     // prune distance and the farthest held.
-    float bound2 = std::numeric_limits<float>::infinity();
-    std::uint32_t node = 0;
-    for (;;) {
-        const Node& n = nodes_[node];
-        if (n.axis_or_leaf != leaf_tag) {
-            const float d = query[n.axis_or_leaf] - n.split;
-            const std::uint32_t near = d < 0.0f ? node + 1 : n.a;
-            const std::uint32_t far = d < 0.0f ? n.a : node + 1;
-            if (d * d < bound2) stack[depth++] = {far, d * d};
-            node = near;
-            continue;
+    walk(query, std::numeric_limits<float>::infinity(), [&](std::uint32_t i, float d2) {
+        if (count < k) {
+            result[count++] = {d2, i};
+            std::push_heap(result, result + count);
+            return count == k ? std::min(prune2, result[0].distance2) : std::numeric_limits<float>::infinity();
         }
-        for (std::uint32_t i = n.a; i < n.b; ++i) {
-            const glm::vec3 v = points_[i] - query;
-            const float d2 = glm::dot(v, v);
-            if (count < k) {
-                result[count++] = {d2, i};
-                std::push_heap(result, result + count);
-                if (count == k) bound2 = std::min(prune2, result[0].distance2);
-            } else if (d2 < result[0].distance2) {
-                std::pop_heap(result, result + k);
-                result[k - 1] = {d2, i};
-                std::push_heap(result, result + k);
-                bound2 = std::min(prune2, result[0].distance2);
-            }
+        if (d2 < result[0].distance2) {
+            std::pop_heap(result, result + k);
+            result[k - 1] = {d2, i};
+            std::push_heap(result, result + k);
         }
-        while (depth > 0 && stack[depth - 1].plane_distance2 >= bound2) --depth;
-        if (depth == 0) break;
-        node = stack[--depth].node;
-    }
+        return std::min(prune2, result[0].distance2);
+    });
     return count;
 }
 

@@ -62,6 +62,37 @@ private:
 
     struct Builder;
 
+    /// Near-side-first walk of the tree: calls visit(index, distance2) for every point of every
+    /// leaf reached; visit returns the squared bound a pending subtree's splitting plane must be
+    /// within to be visited (it may shrink as points are found). `bound2` is the first bound.
+    template <typename Visit>
+    void walk(const glm::vec3& query, float bound2, Visit&& visit) const {
+        struct Pending {
+            std::uint32_t node;
+            float plane_distance2;
+        };
+        Pending stack[64];  // the tree is balanced: its depth is about log2(n / leaf_size) < 32
+        int depth = 0;
+        std::uint32_t node = 0;
+        for (;;) {
+            const Node& n = nodes_[node];
+            if (n.axis_or_leaf != leaf_tag) {
+                const float d = query[n.axis_or_leaf] - n.split;
+                if (d * d < bound2) stack[depth++] = {d < 0.0f ? n.a : node + 1, d * d};
+                node = d < 0.0f ? node + 1 : n.a;
+                continue;
+            }
+            for (std::uint32_t i = n.a; i < n.b; ++i) {
+                const glm::vec3 v = points_[i] - query;
+                bound2 = visit(i, glm::dot(v, v));
+            }
+            // Resume at the nearest pending subtree still within reach.
+            while (depth > 0 && stack[depth - 1].plane_distance2 >= bound2) --depth;
+            if (depth == 0) break;
+            node = stack[--depth].node;
+        }
+    }
+
     std::vector<Node> nodes_;
     std::vector<glm::vec3> points_;
     std::vector<std::uint32_t> order_;

@@ -88,6 +88,31 @@ OptionSpec real(std::string name, const char* group, const char* help, double Op
             [member](const Options& o) { return format_double(o.*member); }};
 }
 
+/// An option whose value is one of a few names, each standing for a value of `member`. The
+/// error lists them: "--NAME: expected a, b or c, got 'x'".
+template <typename T>
+OptionSpec choice(std::string name, const char* value_name, const char* group, const char* help, T Options::*member,
+                  std::vector<std::pair<std::string, T>> names) {
+    std::string expected;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        expected += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i].first;
+    std::string n = name;
+    return {std::move(name), 0, value_name, group, help,
+            [member, names, n, expected](Options& o, const std::string& v) {
+                for (const auto& [text, value] : names)
+                    if (v == text) {
+                        o.*member = value;
+                        return;
+                    }
+                throw InputError("--" + n + ": expected " + expected + ", got '" + v + "'");
+            },
+            [member, names](const Options& o) {
+                for (const auto& [text, value] : names)
+                    if (o.*member == value) return text;
+                return std::string();
+            }};
+}
+
 OptionSpec resolution(std::string name, const char* help, int size) {
     return {std::move(name), 0, nullptr, "output", help,
             [size](Options& o, const std::string&) { o.resolution_override = size; },
@@ -138,16 +163,10 @@ std::string matching_quality_preset(const Options& o) {
 const std::vector<OptionSpec>& option_table() {
     constexpr double huge = 1e30;
     static const std::vector<OptionSpec> table = {
-        {"integrator", 0, "classic|progressive", "transport",
-         "classic: the original renderer's rules (SEED_BEHAVIOUR.md Part B); progressive: our photon mapper",
-         [](Options& o, const std::string& v) {
-             if (v == "classic") o.integrator = IntegratorKind::classic;
-             else if (v == "progressive") o.integrator = IntegratorKind::progressive;
-             else throw InputError("--integrator: expected classic or progressive, got '" + v + "'");
-         },
-         [](const Options& o) {
-             return std::string(o.integrator == IntegratorKind::classic ? "classic" : "progressive");
-         }},
+        choice<IntegratorKind>(
+            "integrator", "classic|progressive", "transport",
+            "classic: the original renderer's rules (SEED_BEHAVIOUR.md Part B); progressive: our photon mapper",
+            &Options::integrator, {{"classic", IntegratorKind::classic}, {"progressive", IntegratorKind::progressive}}),
         flag("a4", 0, "conventions", "course (CS488 A4) conventions: transforms in call order, unit cube [0,1]^3",
              &Options::a4),
         flag("timing", 't', "reporting", "print per-stage times", &Options::timing),
@@ -204,32 +223,17 @@ const std::vector<OptionSpec>& option_table() {
                 "each light's map holds 2 G^2 cells (one byte and one ray each: 33.5 million at 4096)"),
         real("caustic-max-dist", "caustics", "maximum gather distance (default 0.15 x unit distance)",
              &Options::caustic_max_dist, 0.0, huge, true),
-        {"projection-map", 0, "MODE", "caustics", "auto|on|off: use light projection maps when shooting photons",
-         [](Options& o, const std::string& v) {
-             if (v == "auto") o.projection_map = ProjectionMapMode::automatic;
-             else if (v == "on") o.projection_map = ProjectionMapMode::on;
-             else if (v == "off") o.projection_map = ProjectionMapMode::off;
-             else throw InputError("--projection-map: expected auto, on or off, got '" + v + "'");
-         },
-         [](const Options& o) {
-             return std::string(o.projection_map == ProjectionMapMode::on    ? "on"
-                                : o.projection_map == ProjectionMapMode::off ? "off"
-                                                                             : "auto");
-         }},
-        {"caustic-filter", 0, "none|cone", "caustics", "radiance-estimate filter: the seed's disc average, or Jensen's cone",
-         [](Options& o, const std::string& v) {
-             if (v == "none") o.caustic_cone_filter = false;
-             else if (v == "cone") o.caustic_cone_filter = true;
-             else throw InputError("--caustic-filter: expected none or cone, got '" + v + "'");
-         },
-         [](const Options& o) { return std::string(o.caustic_cone_filter ? "cone" : "none"); }},
-        {"photon-emission", 0, "ld|random", "caustics", "photon directions: low-discrepancy (Hammersley) or random",
-         [](Options& o, const std::string& v) {
-             if (v == "ld") o.photon_random_emission = false;
-             else if (v == "random") o.photon_random_emission = true;
-             else throw InputError("--photon-emission: expected ld or random, got '" + v + "'");
-         },
-         [](const Options& o) { return std::string(o.photon_random_emission ? "random" : "ld"); }},
+        choice<ProjectionMapMode>("projection-map", "MODE", "caustics",
+                                  "auto|on|off: use light projection maps when shooting photons", &Options::projection_map,
+                                  {{"auto", ProjectionMapMode::automatic},
+                                   {"on", ProjectionMapMode::on},
+                                   {"off", ProjectionMapMode::off}}),
+        choice<bool>("caustic-filter", "none|cone", "caustics",
+                     "radiance-estimate filter: the seed's disc average, or Jensen's cone", &Options::caustic_cone_filter,
+                     {{"none", false}, {"cone", true}}),
+        choice<bool>("photon-emission", "ld|random", "caustics",
+                     "photon directions: low-discrepancy (Hammersley) or random", &Options::photon_random_emission,
+                     {{"ld", false}, {"random", true}}),
         real("unit-distance", "caustics", "scene length unit for photon energies", &Options::unit_distance, 0.0, huge,
              true),
         real("energy-fudge", "caustics", "scale factor on photon energy", &Options::energy_fudge, 0.0, huge),

@@ -1,0 +1,38 @@
+// Small helpers several test files share: the error a script load throws, and a surface hit on
+// an analytic shape as RenderScene fills it.
+#pragma once
+
+#include "core/geometry/ray.h"
+#include "core/geometry/shapes.h"
+#include "core/lua/scene_loader.h"
+#include "core/scene/source_location.h"
+
+#include <string>
+
+namespace caustica::testing {
+
+/// The message of the InputError that loading `path` throws ("(no error)" when it loads).
+inline std::string load_error(const std::string& path, const LoadSettings& settings = {}) {
+    try {
+        load_scene_script(path, settings);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+/// A hit at object point p of an analytic shape placed with object space = world space, as
+/// RenderScene fills it (uv and the A2 tangents included).
+inline SurfaceHit shape_hit(const Shape& shape, const glm::vec3& p, int face, const glm::vec3& outward) {
+    SurfaceHit hit;
+    hit.position = hit.object_position = p;
+    hit.normal = glm::normalize(outward);
+    hit.face = face;
+    hit.material = 0;
+    hit.shape_kind = static_cast<int>(shape.kind);
+    hit.uv = shape_uv(shape, p, face);
+    shape_tangents(shape, p, face, hit.dpdu, hit.dpdv);
+    return hit;
+}
+
+}  // namespace caustica::testing
