@@ -40,6 +40,8 @@ struct ShadingSetup {
     int caustic_neighbours = 5;
     float caustic_max_distance = 0.15f;
     PhotonFilter caustic_filter = PhotonFilter::none;  ///< progressive only
+    /// Progressive passes (--passes > 1): the gather radius of this pass, 0 = the k-nearest estimate.
+    float caustic_radius = 0.0f;
     const PhotonMap* gi_map = nullptr;                 ///< classic --gi
     int gi_neighbours = 100;
     // Debug views (B6).

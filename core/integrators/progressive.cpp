@@ -145,6 +145,13 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
 
 glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
                                        RayCounters& counters) const {
+    if (setup_.caustic_radius > 0.0f) {  // a progressive pass: the fixed radius of its pass
+        const auto t0 = std::chrono::steady_clock::now();
+        const glm::vec3 e = setup_.caustic_map->disc_estimate(hit.position, n, setup_.caustic_radius);
+        counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        ++counters.gathers;
+        return kd * saturate(e);
+    }
     thread_local std::vector<Neighbour> scratch;
     if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
         scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));

@@ -40,6 +40,35 @@ public:
     std::uint32_t nearest_always(const glm::vec3& query, std::uint32_t k, float prune_distance,
                                  Neighbour* result) const;
 
+    /// Calls visit(index, distance2) for every point closer than `radius` to `query` (tree order,
+    /// any order of visits): the fixed-radius gather of progressive photon mapping.
+    template <typename Visit>
+    void for_each_within(const glm::vec3& query, float radius, Visit&& visit) const {
+        if (nodes_.empty() || !(radius > 0.0f)) return;
+        const float radius2 = radius * radius;
+        const glm::vec3 outside = glm::max(glm::max(lo_ - query, query - hi_), glm::vec3(0.0f));
+        if (glm::dot(outside, outside) >= radius2) return;
+        std::uint32_t stack[64];
+        int depth = 0;
+        std::uint32_t node = 0;
+        for (;;) {
+            const Node& n = nodes_[node];
+            if (n.axis_or_leaf != leaf_tag) {
+                const float d = query[n.axis_or_leaf] - n.split;
+                if (d * d < radius2) stack[depth++] = d < 0.0f ? n.a : node + 1;
+                node = d < 0.0f ? node + 1 : n.a;
+                continue;
+            }
+            for (std::uint32_t i = n.a; i < n.b; ++i) {
+                const glm::vec3 v = points_[i] - query;
+                const float d2 = glm::dot(v, v);
+                if (d2 < radius2) visit(i, d2);
+            }
+            if (depth == 0) break;
+            node = stack[--depth];
+        }
+    }
+
     /// The points in tree order.
     const std::vector<glm::vec3>& points() const { return points_; }
     /// For each tree position, the index the point had in the input.

@@ -69,4 +69,13 @@ const Photon* PhotonMap::nearest_photon(const glm::vec3& p, float* distance) con
     return &photons_[nearest.index];
 }
 
+glm::vec3 PhotonMap::disc_estimate(const glm::vec3& p, const glm::vec3& n, float radius) const {
+    glm::vec3 sum(0.0f);
+    tree_.for_each_within(p, radius, [&](std::uint32_t i, float) {
+        if (glm::dot(photons_[i].direction, n) < 0.0f) sum += photons_[i].power;
+    });
+    constexpr float pi = 3.14159265358979f;
+    return sum / (pi * radius * radius);
+}
+
 }  // namespace caustica

@@ -50,6 +50,10 @@ public:
     /// No filter, no side or normal test. `scratch` must hold k entries.
     ClassicEstimate classic_estimate(const glm::vec3& p, int k, float prune_distance, Neighbour* scratch) const;
 
+    /// Progressive photon mapping's gather: the power of the photons within `radius` of `p`
+    /// arriving from the front of the surface (normal `n` facing the viewer), over pi radius^2.
+    glm::vec3 disc_estimate(const glm::vec3& p, const glm::vec3& n, float radius) const;
+
     /// The photon nearest to `p` however far (null for an empty map); its distance goes to
     /// `distance` when given. For the photon dot views (B6).
     const Photon* nearest_photon(const glm::vec3& p, float* distance = nullptr) const;

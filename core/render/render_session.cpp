@@ -334,6 +334,52 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         stats_.stages.push_back({name, now_seconds() - t0, false});
     };
 
+    if (options.integrator == IntegratorKind::progressive && options.passes > 1) {
+        // Progressive photon mapping, memoryless (Knaus & Zwicker 2011): pass i shoots a fresh
+        // photon stream and gathers with radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1); the
+        // passes' images are averaged, so noise and bias both vanish as passes grow, in memory
+        // that does not depend on the number of passes.
+        constexpr double alpha = 2.0 / 3.0;
+        double radius2 = options.effective_caustic_max_dist() * options.effective_caustic_max_dist();
+        accumulation_.assign(static_cast<std::size_t>(width) * height, glm::vec3(0.0f));
+        {
+            std::lock_guard lock(mutex_);
+            progress_.passes = options.passes;
+            progress_.tiles_total = tiles.size() * static_cast<std::size_t>(options.passes);
+        }
+        for (int p = 0; p < options.passes && !cancel_requested_; ++p) {
+            std::unique_ptr<CausticStage> fresh;
+            const PhotonMap* map = caustics_ ? caustics_->map.get() : nullptr;
+            if (p > 0 && caustic_key_ != 0) {
+                RenderJob pass_job = job_;
+                pass_job.options.seed = job_.options.seed + p;  // a fresh photon stream
+                fresh = std::make_unique<CausticStage>();
+                set_stage("shooting photons");
+                build_caustic_stage(*fresh, *scene_, pass_job, &cancel_requested_, textures_.get());
+                map = fresh->map.get();
+            }
+            ShadingSetup pass_setup = setup;
+            pass_setup.caustic_map = map;
+            pass_setup.caustic_radius = static_cast<float>(std::sqrt(radius2));
+            const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
+            TileContext pass_context = context;
+            pass_context.integrator = pass_integrator.get();
+            if (!cancel_requested_)
+                run_pass("progressive pass", p, [&](const Tile& tile, RayCounters& c) {
+                    render_accumulation_tile(pass_context, tile, p, accumulation_, image_, c);
+                });
+            radius2 *= (static_cast<double>(p + 1) + alpha) / static_cast<double>(p + 2);
+        }
+        RayCounters total;
+        for (const RayCounters& c : counters) total += c;
+        std::lock_guard lock(mutex_);
+        stats_.rays = total;
+        stats_.threads = threads;
+        stats_.integrator = integrator->name();
+        ++counters_.renders;
+        return;
+    }
+
     int pass = 0;
     if (progressive_)
         run_pass("preview", pass++, [&](const Tile& tile, RayCounters& c) {

@@ -138,6 +138,7 @@ private:
 
     Image image_, first_pass_;
     std::vector<std::uint8_t> refine_;  // corner_grid: pixels the anti-aliasing pass refines
+    std::vector<glm::vec3> accumulation_;  // progressive passes: the sum of every pass's samples
     std::vector<Tile> tiles_;
     std::unique_ptr<std::mutex[]> tile_mutexes_;
     std::unique_ptr<std::atomic<std::uint64_t>[]> tile_versions_;

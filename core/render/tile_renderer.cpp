@@ -124,6 +124,24 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
     }
 }
 
+void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass, std::vector<glm::vec3>& sum,
+                              Image& out, RayCounters& counters) {
+    const float weight = 1.0f / static_cast<float>(pass + 1);
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const std::size_t index = static_cast<std::size_t>(y) * out.width + x;
+            // One stream per (pixel, pass): the same image for any thread count.
+            RandomStream random(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
+            const float px = static_cast<float>(x) + random.uniform(), py = static_cast<float>(y) + random.uniform();
+            const glm::vec3 c = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
+            ++counters.samples;
+            check_pixel(c, x, y);
+            sum[index] += c;
+            out.at(x, y) = sum[index] * weight;
+        }
+    }
+}
+
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold) {
     const glm::vec3 centre = glm::clamp(first_pass.at(x, y), 0.0f, 1.0f);
     for (int dy = -1; dy <= 1; ++dy) {

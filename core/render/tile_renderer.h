@@ -45,6 +45,11 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
 /// (sum of |RGB| differences of the clamped colours).
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold);
 
+/// One progressive pass: a jittered sample per pixel, added to `sum` (width x height), and the
+/// mean over the `pass + 1` passes so far written to `out`.
+void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass, std::vector<glm::vec3>& sum,
+                              Image& out, RayCounters& counters);
+
 /// B3's difference of the four corner samples of a pixel: the sum over the 6 pairs of the
 /// squared RGB differences (unclamped).
 float corner_difference(const glm::vec3 corners[4]);
