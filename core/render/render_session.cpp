@@ -334,7 +334,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         stats_.stages.push_back({name, now_seconds() - t0, false});
     };
 
-    if (options.integrator == IntegratorKind::progressive && options.passes > 1) {
+    if (options.integrator == IntegratorKind::progressive && (options.passes > 1 || options.time_limit > 0.0)) {
         // Progressive photon mapping, memoryless (Knaus & Zwicker 2011): pass i shoots a fresh
         // photon stream and gathers with radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1); the
         // passes' images are averaged, so noise and bias both vanish as passes grow, in memory
@@ -344,10 +344,13 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         accumulation_.assign(static_cast<std::size_t>(width) * height, glm::vec3(0.0f));
         {
             std::lock_guard lock(mutex_);
-            progress_.passes = options.passes;
+            progress_.passes = options.passes;  // with --time alone: grows as passes are made
             progress_.tiles_total = tiles.size() * static_cast<std::size_t>(options.passes);
         }
-        for (int p = 0; p < options.passes && !cancel_requested_; ++p) {
+        const int pass_limit = options.time_limit > 0.0 && options.passes == 1 ? 1'000'000 : options.passes;
+        const double passes_start = now_seconds();
+        for (int p = 0; p < pass_limit && !cancel_requested_; ++p) {
+            if (p > 0 && options.time_limit > 0.0 && now_seconds() - passes_start >= options.time_limit) break;
             std::unique_ptr<CausticStage> fresh;
             const PhotonMap* map = caustics_ ? caustics_->map.get() : nullptr;
             if (p > 0 && caustic_key_ != 0) {

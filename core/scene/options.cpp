@@ -188,6 +188,8 @@ const std::vector<OptionSpec>& option_table() {
         integer("passes", 0, "sampling",
                 "progressive: passes of fresh photons and pixel samples, averaged while the gather radius shrinks",
                 &Options::passes, 1, 1'000'000),
+        real("time", "sampling", "progressive: stop after the pass that ends past this many seconds (0 = no limit)",
+             &Options::time_limit, 0.0, 1e7),
         integer("seed", 0, "sampling", "base of the random streams", &Options::seed, 0,
                 std::numeric_limits<long long>::max()),
         integer("threads", 'j', "performance", "worker threads (0 = all cores)", &Options::threads, 0, 1024),

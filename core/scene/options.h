@@ -65,6 +65,7 @@ struct Options {
     long long script_memory_mib = 2048;  ///< budget of the script (Lua heap + what it makes C++ hold), 0 = none
     long long seed = 0;            ///< base of the random streams
     int passes = 1;                ///< progressive: photon passes averaged with a shrinking radius
+    double time_limit = 0.0;       ///< progressive: stop passing after this many seconds (0 = no limit)
 
     /// The maximum photon gather distance in effect (resolves the "0.15 x unit distance" default).
     double effective_caustic_max_dist() const {
