@@ -49,3 +49,34 @@ TEST(ProgressivePasses, VirtualLightErrorFallsWithPasses) {
     EXPECT_LT(errors[1], errors[0]);
     EXPECT_LT(errors[2], 0.6 * errors[1]);
 }
+
+// Inside a closed diffuse sphere of radius R and albedo rho, with a point light anywhere inside,
+// the indirect irradiance is the same everywhere: rho / (1 - rho) times the mean direct
+// irradiance Phi / (4 pi R^2). With Phi = 4 pi C d_u^2 / c2 (the photon energy rule), the
+// photon term of a pixel is kd E = rho^2 / (1 - rho) C d_u^2 / (c2 R^2). Without --gi it is 0.
+TEST(ProgressiveGi, ClosedDiffuseSphereMatchesTheAnalyticInterreflection) {
+    for (const auto& [rho, light] : {std::pair{0.5, glm::dvec3(0.5, 0.3, -0.2)}, std::pair{0.8, glm::dvec3(-1.2, 0.4, 0.6)}}) {
+        for (bool gi : {true, false}) {
+            JobBuilder b(16, 16);
+            const double radius = 2.0;
+            const int ball = b.add(NodeKind::sphere, b.material(glm::dvec3(rho)));
+            b.scale(ball, glm::dvec3(radius));
+            b.light(light, {1, 1, 1}, {0, 0, 1});
+            b.camera({0, 0, 0}, {1, 0, 0}, 40);
+            b.job.options.integrator = IntegratorKind::progressive;
+            b.job.options.gi = gi;
+            b.job.options.gi_num_photons = 200'000;
+            b.job.options.caustic_num_photons = 200'000;
+            b.job.options.passes = 8;
+            b.job.options.draw_caustics_only = true;
+            const Image image = caustica::testing::render(b.build());
+            double mean = 0.0;
+            for (const glm::vec3& c : image.pixels) mean += c.x;
+            mean /= static_cast<double>(image.pixels.size());
+            const double expected = rho * rho / (1.0 - rho) / (radius * radius);
+            std::printf("rho %.1f gi %d: mean %.5f, analytic %.5f\n", rho, gi ? 1 : 0, mean, gi ? expected : 0.0);
+            if (gi) EXPECT_NEAR(mean / expected, 1.0, 0.02) << rho;
+            else EXPECT_EQ(mean, 0.0) << rho;
+        }
+    }
+}

@@ -19,7 +19,10 @@ bool is_specular(const MaterialDesc& m) { return m.reflective || m.refractive_in
 /// Whether the job wants a caustic map (and its projection maps).
 bool caustic_map_wanted(const RenderJob& job) {
     const Options& o = job.options;
-    if (o.no_caustic_map || job.lights.empty()) return false;
+    if (job.lights.empty()) return false;
+    // Progressive --gi: one map of every path with a bounce, whatever the materials (issue 11).
+    if (o.integrator == IntegratorKind::progressive && o.gi_wanted()) return o.gi_num_photons > 0;
+    if (o.no_caustic_map) return false;
     if (o.caustic_num_photons <= 0 && !o.draw_caustic_prm) return false;
     for (const NodeDesc& node : job.scene->nodes)
         if (node.material >= 0 && is_specular(job.scene->materials[node.material])) return true;
@@ -69,11 +72,9 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
     h = hash_double(h, static_cast<double>(o.seed));
     h = hash_double(h, o.max_depth);
     h = hash_double(h, static_cast<double>(o.integrator));
-    if (o.integrator == IntegratorKind::classic) {
-        // The GI map, and whether the caustic map is off while the GI map is built.
-        h = hash_double(h, (o.gi_wanted() ? 1.0 : 0.0) + (o.no_caustic_map ? 2.0 : 0.0));
-        h = hash_double(h, static_cast<double>(o.gi_num_photons));
-    }
+    // The GI map (classic) or GI paths (progressive), and whether the caustic map is off.
+    h = hash_double(h, (o.gi_wanted() ? 1.0 : 0.0) + (o.no_caustic_map ? 2.0 : 0.0));
+    h = hash_double(h, static_cast<double>(o.gi_num_photons));
     return h | 1;  // never 0, which means "nothing built"
 }
 
@@ -103,7 +104,9 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     stage.key = caustic_fingerprint(job, 0);
     const std::vector<Light> lights = job_lights(job);
     PhotonPassSettings settings;
-    settings.photons_per_light = o.caustic_num_photons;
+    settings.global_illumination = o.gi_wanted();
+    // With --gi one map holds every indirect path, caustics included: --gi-num-photons are shot.
+    settings.photons_per_light = settings.global_illumination ? o.gi_num_photons : o.caustic_num_photons;
     settings.unit_distance = o.unit_distance;
     settings.energy_fudge = o.energy_fudge;
     settings.projection_map = o.projection_map;
@@ -124,7 +127,7 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     stage.projection_maps = std::move(pass.maps);
     const auto t0 = std::chrono::steady_clock::now();
     if (cancel && cancel->load()) return;  // a cancelled pass is thrown away: no tree for it
-    if (o.caustic_num_photons > 0) stage.map = std::make_unique<PhotonMap>(std::move(pass.photons));
+    if (settings.photons_per_light > 0) stage.map = std::make_unique<PhotonMap>(std::move(pass.photons));
     stage.tree_seconds = seconds_since(t0);
 }
 

@@ -46,13 +46,23 @@ glm::vec3 sphere_direction(float u, float v) {
 }
 
 /// Traces one photon; appends it to `out` if it ends on a diffuse surface after a specular bounce.
+/// A cosine-weighted direction about the unit normal `n` (Lambertian reflection).
+glm::vec3 cosine_direction(const glm::vec3& n, float u1, float u2) {
+    const float r = std::sqrt(u1), phi = 2.0f * static_cast<float>(pi) * u2;
+    const glm::vec3 helper = std::fabs(n.x) > 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    const glm::vec3 t = glm::normalize(glm::cross(helper, n)), b = glm::cross(n, t);
+    return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
+}
+
 void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_depth, float unit_distance,
-                  RandomStream& random, std::vector<Photon>& out) {
+                  bool global_illumination, RandomStream& random, std::vector<Photon>& out) {
     const auto& materials = scene.materials();
     const float eps = scene.epsilon();
     MediumStack media;
-    int specular_bounces = 0;
-    for (int depth = 0; depth <= max_depth; ++depth) {
+    int specular_bounces = 0, bounces = 0;
+    // Roulette ends GI paths; the cap only stops pathological ones (albedo 0.9: 0.9^64 = 1e-3 left).
+    const int depth_limit = global_illumination ? std::max(max_depth, 64) : max_depth;
+    for (int depth = 0; depth <= depth_limit; ++depth) {
         SurfaceHit hit;
         if (!scene.intersect(ray, hit)) return;
         if (const int medium = media.top(); medium >= 0)
@@ -60,13 +70,23 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
         const Material& m = materials[hit.material];
         // A diffuse surface reached after a specular interaction stores the photon (an L S+ D
         // path); its incident power is kept, kd is applied when the estimate is shaded.
-        if (!m.transparent && m.kd != glm::vec3(0.0f) && specular_bounces > 0)
+        if (!m.transparent && m.kd != glm::vec3(0.0f) && (specular_bounces > 0 || (global_illumination && bounces > 0)))
             out.push_back({hit.position, power, ray.direction});
+        ++bounces;
         // Russian roulette decides what happens next (seed 1.1.1). Diffuse reflection ends a
         // caustic path (the caustic map holds no diffuse bounce); so does absorption.
         const RouletteOdds odds = roulette_odds(m);
         const float xi = random.uniform();
-        if (xi < odds.diffuse || xi >= odds.diffuse + odds.specular) return;
+        if (xi >= odds.diffuse + odds.specular) return;  // absorbed
+        if (xi < odds.diffuse) {
+            if (!global_illumination) return;  // the caustic map holds no diffuse bounce
+            // Lambertian bounce on the side the photon came from; power kd / P(diffuse) keeps energy.
+            const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
+            power = saturate(power * (m.kd / odds.diffuse));
+            const float u1 = random.uniform(), u2 = random.uniform();
+            ray = Ray{hit.position, cosine_direction(n, u1, u2), eps, ray_infinity};
+            continue;
+        }
         // A6: a reflection carries ks; a transmission carries nothing at the surface, the
         // medium's ks^(d/d_u) is applied along the segment inside (above).
         const glm::vec3 ks = m.air ? glm::vec3(1.0f) : m.ks;
@@ -152,7 +172,8 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         // (1/16 of the rays) shows 90% of the sphere occupied. Measured in docs/PERFORMANCE.md.
         const bool automatic = settings.projection_map == ProjectionMapMode::automatic;
         const long long cells = 2LL * settings.projection_map_granularity * settings.projection_map_granularity;
-        bool try_map = settings.projection_map == ProjectionMapMode::on || (automatic && count > 2 * cells);
+        bool try_map = !settings.global_illumination &&
+                       (settings.projection_map == ProjectionMapMode::on || (automatic && count > 2 * cells));
         const auto t_map = std::chrono::steady_clock::now();
         if (try_map && automatic) {
             ProjectionMap coarse(std::max(8, settings.projection_map_granularity / 4));
@@ -217,7 +238,8 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                         origin += light.radius * s;
                     }
                     trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, energy, settings.max_depth,
-                                 static_cast<float>(settings.unit_distance), random, stored[b]);
+                                 static_cast<float>(settings.unit_distance), settings.global_illumination, random,
+                                 stored[b]);
                 }
             }
         });

@@ -31,6 +31,9 @@ struct PhotonPassSettings {
     PhotonEmission emission = PhotonEmission::low_discrepancy;
     std::uint64_t seed = 0;
     int max_depth = 8;  ///< specular interactions before a photon is dropped
+    /// Every path with at least one bounce is stored at each diffuse hit and continues by a
+    /// Lambertian bounce (issue 11, --gi); no projection map. Otherwise caustic paths only.
+    bool global_illumination = false;
     double memory_budget_bytes = 0.0;  ///< refuse passes whose photons could exceed this (0 = 60% of RAM)
 };
 

@@ -101,12 +101,6 @@ void RenderSession::prepare() {
     prepare_scene();
     if (cancel_requested_) return;  // the photon pass would be thrown away
     prepare_caustics();
-    if (job_.options.integrator == IntegratorKind::progressive && job_.options.gi_wanted()) {
-        const std::string warning = "--gi, --draw-gi-map and --draw-gi-only need --integrator classic: the progressive "
-                                    "integrator has no global-illumination map; ignored";
-        std::lock_guard lock(mutex_);
-        if (std::find(warnings_.begin(), warnings_.end(), warning) == warnings_.end()) warnings_.push_back(warning);
-    }
 }
 
 void RenderSession::prepare_scene() {
