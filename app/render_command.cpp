@@ -150,6 +150,17 @@ void print_stats(const RenderStats& stats, bool timing, bool statistics) {
             std::fprintf(stderr, "  radiance estimates     %9llu (%.3f s summed over threads, %.0f%% of render thread time)\n",
                          static_cast<unsigned long long>(r.gathers), r.gather_seconds,
                          100.0 * r.gather_seconds / (seconds * std::max(1, stats.threads)));
+        if (const RenderStats::Accumulation& a = stats.accumulation; a.passes > 0) {
+            std::fprintf(stderr, "  progressive passes     %9d (stopped by %s)\n", a.passes, a.stopped_by.c_str());
+            std::fprintf(stderr, "  photons over passes    %9lld directions\n", a.photons_emitted);
+            std::fprintf(stderr, "  gather radius          %9.4g first, %.4g now\n", a.first_radius, a.radius);
+            if (a.error >= 0.0)
+                std::fprintf(stderr, "  estimated error        %9.4f relative RMSE over the caustics (noise %.4f, bias %.4f)\n",
+                             a.error, a.noise, a.bias);
+            else
+                std::fprintf(stderr, "  estimated error        %9s (needs 2 passes and a caustic)\n", "unknown");
+            std::fprintf(stderr, "  accumulation buffers   %9.1f MiB\n", a.bytes / 1048576.0);
+        }
         for (const StageTime& s : stats.stages)
             std::fprintf(stderr, "  time: %-16s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? " (cached)" : "");
     }

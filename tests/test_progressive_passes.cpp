@@ -80,3 +80,36 @@ TEST(ProgressiveGi, ClosedDiffuseSphereMatchesTheAnalyticInterreflection) {
         }
     }
 }
+
+// The renderer's own estimate of its remaining error stays within a factor 2 of the true error.
+TEST(ProgressivePasses, ErrorEstimateTracksTheTrueErrorOnTheVirtualLight) {
+    JobBuilder reference = caustica::testing::virtual_light_scene(true);
+    reference.job.width = reference.job.height = 96;
+    reference.job.options.integrator = IntegratorKind::progressive;
+    reference.job.miss_colour = {0, 0, 0};
+    const RenderJob truth_job = reference.build();
+    const Image truth = caustica::testing::render(truth_job);
+    for (int passes : {4, 16, 64}) {
+        JobBuilder b = caustica::testing::virtual_light_scene(false);
+        b.job.width = b.job.height = 96;
+        b.job.options.integrator = IntegratorKind::progressive;
+        b.job.options.caustic_num_photons = 20'000;
+        b.job.options.caustic_num_neighbours = 20;
+        b.job.options.caustic_max_dist = 0.3;
+        b.job.options.passes = passes;
+        b.job.options.draw_caustics_only = true;
+        b.job.options.reproducible = true;
+        b.job.miss_colour = {0, 0, 0};
+        const RenderJob job = b.build();
+        RenderSession session;
+        session.set_job(job);
+        session.start();
+        ASSERT_TRUE(session.wait());
+        const double truth_error = annulus_error(session.image(), truth, truth_job);
+        const RenderStats::Accumulation a = session.stats().accumulation;
+        std::printf("%d passes: true %.4f, estimated %.4f (noise %.4f, bias %.4f), radius %.4f -> %.4f\n", passes,
+                    truth_error, a.error, a.noise, a.bias, a.first_radius, a.radius);
+        EXPECT_GT(a.error, 0.5 * truth_error);
+        EXPECT_LT(a.error, 2.0 * truth_error);
+    }
+}

@@ -145,23 +145,34 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
 
 glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
                                        RayCounters& counters) const {
-    if (setup_.caustic_radius > 0.0f) {  // a progressive pass: the fixed radius of its pass
-        const auto t0 = std::chrono::steady_clock::now();
-        const glm::vec3 e = setup_.caustic_map->disc_estimate(hit.position, n, setup_.caustic_radius);
-        counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        ++counters.gathers;
-        return kd * saturate(e);
-    }
-    thread_local std::vector<Neighbour> scratch;
-    if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
-        scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
+    // Every gather also feeds the progressive probes (RayCounters): kd E at the radius and at the
+    // inner radius r / sqrt 2, and in a k-nearest pass the N-th neighbour's distance.
+    auto mean = [](const glm::vec3& c) { return (static_cast<double>(c.x) + c.y + c.z) / 3.0; };
     const auto t0 = std::chrono::steady_clock::now();
-    const glm::vec3 irradiance = setup_.caustic_map->estimate(hit.position, n, setup_.caustic_neighbours,
-                                                              setup_.caustic_max_distance, setup_.caustic_filter,
-                                                              scratch.data());
+    glm::vec3 irradiance, inner;
+    if (setup_.caustic_radius > 0.0f) {  // a progressive pass: the fixed radius of its pass
+        irradiance = setup_.caustic_map->disc_estimate(hit.position, n, setup_.caustic_radius, &inner);
+    } else {
+        thread_local std::vector<Neighbour> scratch;
+        if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
+            scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
+        PhotonMap::Probe probe;
+        irradiance = setup_.caustic_map->estimate(hit.position, n, setup_.caustic_neighbours,
+                                                  setup_.caustic_max_distance, setup_.caustic_filter,
+                                                  scratch.data(), probe);
+        inner = probe.inner;
+        if (probe.kth_distance > 0.0f) {
+            counters.radius_log_sum += std::log(static_cast<double>(probe.kth_distance));
+            ++counters.radius_samples;
+        }
+    }
     counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++counters.gathers;
-    return kd * saturate(irradiance);  // a disc of tiny radius can make the estimate overflow
+    // Saturated: a disc of tiny radius can make the estimate overflow.
+    const glm::vec3 radiance = kd * saturate(irradiance);
+    counters.photon_value += mean(radiance);
+    counters.photon_value_inner += mean(kd * saturate(inner));
+    return radiance;
 }
 
 glm::vec3 ProgressiveIntegrator::debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const {

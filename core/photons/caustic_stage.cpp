@@ -40,7 +40,7 @@ std::uint64_t stage_seed(const Options& o) {
 }
 
 void build_progressive_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                             const std::atomic<bool>* cancel);
+                             const std::atomic<bool>* cancel, const PhotonPassExtras& extras);
 void build_classic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                          const std::atomic<bool>* cancel, const TextureSet* textures);
 
@@ -83,13 +83,18 @@ void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const Re
     if (job.options.integrator == IntegratorKind::classic)
         build_classic_stage(stage, scene, job, cancel, textures);
     else
-        build_progressive_stage(stage, scene, job, cancel);
+        build_progressive_stage(stage, scene, job, cancel, PhotonPassExtras{});
+}
+
+void build_progressive_pass(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                            const std::atomic<bool>* cancel, const PhotonPassExtras& extras) {
+    build_progressive_stage(stage, scene, job, cancel, extras);
 }
 
 namespace {
 
 void build_progressive_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                             const std::atomic<bool>* cancel) {
+                             const std::atomic<bool>* cancel, const PhotonPassExtras& extras) {
     const Options& o = job.options;
     // The roulette needs P(diffuse) + P(specular) <= 1 where a surface is a mirror (seed 1.1.1).
     // A transparent material's kd is its medium colour, not a reflectance: it is not counted.
@@ -112,8 +117,15 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.projection_map = o.projection_map;
     settings.projection_map_granularity = o.caustic_pm_gran;
     settings.emission = o.photon_random_emission ? PhotonEmission::random : PhotonEmission::low_discrepancy;
-    settings.seed = stage_seed(o);
+    settings.seed = extras.first ? extras.seed : stage_seed(o);
     settings.max_depth = o.max_depth;
+    settings.progress = extras.progress;
+    if (extras.first) {  // a later pass: the first pass's projection maps, as it used them
+        settings.prebuilt_maps.assign(lights.size(), nullptr);
+        for (std::size_t l = 0; l < lights.size() && l < extras.first->lights.size(); ++l)
+            if (extras.first->lights[l].projection_map_used && l < extras.first->projection_maps.size())
+                settings.prebuilt_maps[l] = &extras.first->projection_maps[l];
+    }
     PhotonPassResult pass = shoot_caustic_photons(scene, lights, settings, cancel);
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const LightPhotonReport& r = pass.lights[l];

@@ -51,4 +51,16 @@ struct CausticStage {
 void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                          const std::atomic<bool>* cancel, const TextureSet* textures = nullptr);
 
+/// What a progressive photon pass adds to the job.
+struct PhotonPassExtras {
+    std::uint64_t seed = 0;              ///< the pass's photon stream (used when `first` is set)
+    const CausticStage* first = nullptr; ///< the first pass: its projection maps are reused
+    std::atomic<long long>* progress = nullptr;  ///< counts directions considered
+};
+
+/// A progressive integrator's photon pass (issue 11): with `extras.first`, a fresh photon stream
+/// of `extras.seed` through the first pass's projection maps; without, as build_caustic_stage.
+void build_progressive_pass(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                            const std::atomic<bool>* cancel, const PhotonPassExtras& extras);
+
 }  // namespace caustica

@@ -22,20 +22,31 @@ PhotonMap::PhotonMap(std::vector<Photon> photons) {
 
 glm::vec3 PhotonMap::estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance,
                               PhotonFilter filter, Neighbour* scratch) const {
+    Probe unused;
+    return estimate(p, n, k, max_distance, filter, scratch, unused);
+}
+
+glm::vec3 PhotonMap::estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance,
+                              PhotonFilter filter, Neighbour* scratch, Probe& probe) const {
+    probe = Probe{};
     const std::uint32_t found = tree_.nearest(p, static_cast<std::uint32_t>(k), max_distance, scratch);
     if (found == 0) return glm::vec3(0.0f);
     // Radius of the disc holding them: the k-th photon's distance, or the search radius.
     const float radius2 = found == static_cast<std::uint32_t>(k) ? scratch[0].distance2 : max_distance * max_distance;
     if (!(radius2 > 0.0f)) return glm::vec3(0.0f);
-    glm::vec3 sum(0.0f);
-    if (filter == PhotonFilter::none) {
-        for (std::uint32_t i = 0; i < found; ++i) {
-            const Photon& photon = photons_[scratch[i].index];
-            if (glm::dot(photon.direction, n) < 0.0f) sum += photon.power;
+    if (found == static_cast<std::uint32_t>(k)) probe.kth_distance = std::sqrt(radius2);
+    glm::vec3 sum(0.0f), inner(0.0f);
+    for (std::uint32_t i = 0; i < found; ++i) {
+        const Photon& photon = photons_[scratch[i].index];
+        if (glm::dot(photon.direction, n) < 0.0f) {
+            sum += photon.power;
+            if (scratch[i].distance2 < 0.5f * radius2) inner += photon.power;
         }
-        return sum / (pi * radius2);
     }
+    probe.inner = inner / (0.5f * pi * radius2);
+    if (filter == PhotonFilter::none) return sum / (pi * radius2);
     const float radius = std::sqrt(radius2);
+    sum = glm::vec3(0.0f);
     for (std::uint32_t i = 0; i < found; ++i) {
         const Photon& photon = photons_[scratch[i].index];
         if (glm::dot(photon.direction, n) >= 0.0f) continue;
@@ -69,13 +80,17 @@ const Photon* PhotonMap::nearest_photon(const glm::vec3& p, float* distance) con
     return &photons_[nearest.index];
 }
 
-glm::vec3 PhotonMap::disc_estimate(const glm::vec3& p, const glm::vec3& n, float radius) const {
-    glm::vec3 sum(0.0f);
-    tree_.for_each_within(p, radius, [&](std::uint32_t i, float) {
-        if (glm::dot(photons_[i].direction, n) < 0.0f) sum += photons_[i].power;
+glm::vec3 PhotonMap::disc_estimate(const glm::vec3& p, const glm::vec3& n, float radius, glm::vec3* inner) const {
+    glm::vec3 sum(0.0f), inner_sum(0.0f);
+    const float inner2 = 0.5f * radius * radius;
+    tree_.for_each_within(p, radius, [&](std::uint32_t i, float distance2) {
+        if (glm::dot(photons_[i].direction, n) >= 0.0f) return;
+        sum += photons_[i].power;
+        if (distance2 < inner2) inner_sum += photons_[i].power;
     });
-    constexpr float pi = 3.14159265358979f;
-    return sum / (pi * radius * radius);
+    const float area = pi * radius * radius;
+    if (inner) *inner = inner_sum / (0.5f * area);
+    return sum / area;
 }
 
 }  // namespace caustica

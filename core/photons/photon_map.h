@@ -44,6 +44,15 @@ public:
     /// `scratch` must hold k entries.
     glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,
                        Neighbour* scratch) const;
+    /// The same with the progressive probes: `probe` gets the k-th photon's distance (0 when fewer
+    /// than k lie within max_distance) and the unfiltered estimate over the inner disc of half
+    /// the area (radius r / sqrt 2).
+    struct Probe {
+        float kth_distance = 0.0f;
+        glm::vec3 inner{0.0f};
+    };
+    glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,
+                       Neighbour* scratch, Probe& probe) const;
 
     /// The classic radiance estimate (B5): the power of the min(k, size()) photons that
     /// PhotonKdTree::nearest_always returns, over pi r^2 with r the largest distance among them.
@@ -52,7 +61,9 @@ public:
 
     /// Progressive photon mapping's gather: the power of the photons within `radius` of `p`
     /// arriving from the front of the surface (normal `n` facing the viewer), over pi radius^2.
-    glm::vec3 disc_estimate(const glm::vec3& p, const glm::vec3& n, float radius) const;
+    /// `inner` gets the same estimate over the disc of radius r / sqrt 2 (from the same walk): the
+    /// two differ by about half the radius bias r^2/8 Laplacian(E) (bias probe, docs/CAUSTICS.md).
+    glm::vec3 disc_estimate(const glm::vec3& p, const glm::vec3& n, float radius, glm::vec3* inner = nullptr) const;
 
     /// The photon nearest to `p` however far (null for an empty map); its distance goes to
     /// `distance` when given. For the photon dot views (B6).

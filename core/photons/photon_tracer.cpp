@@ -172,9 +172,15 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         // (1/16 of the rays) shows 90% of the sphere occupied. Measured in docs/PERFORMANCE.md.
         const bool automatic = settings.projection_map == ProjectionMapMode::automatic;
         const long long cells = 2LL * settings.projection_map_granularity * settings.projection_map_granularity;
-        bool try_map = !settings.global_illumination &&
+        const bool prebuilt = !settings.prebuilt_maps.empty();
+        bool try_map = !prebuilt && !settings.global_illumination &&
                        (settings.projection_map == ProjectionMapMode::on || (automatic && count > 2 * cells));
         const auto t_map = std::chrono::steady_clock::now();
+        if (prebuilt && l < settings.prebuilt_maps.size() && settings.prebuilt_maps[l]) {
+            result.maps[l] = *settings.prebuilt_maps[l];
+            report.occupied_fraction = result.maps[l].occupied_fraction();
+            report.projection_map_used = true;
+        }
         if (try_map && automatic) {
             ProjectionMap coarse(std::max(8, settings.projection_map_granularity / 4));
             coarse.build(scene, light.position);
@@ -205,6 +211,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
             for (long long b = r.begin(); b != r.end(); ++b) {
                 if (cancel && cancel->load(std::memory_order_relaxed)) return;
                 const long long begin = b * block_size, end = std::min(count, (b + 1) * block_size);
+                if (settings.progress) settings.progress->fetch_add(end - begin, std::memory_order_relaxed);
                 const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;
                 // Low-discrepancy directions run through the map's rows in order of i (u is
                 // monotonic in i): a block whose rows are all empty is skipped at once.

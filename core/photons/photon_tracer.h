@@ -35,6 +35,11 @@ struct PhotonPassSettings {
     /// Lambertian bounce (issue 11, --gi); no projection map. Otherwise caustic paths only.
     bool global_illumination = false;
     double memory_budget_bytes = 0.0;  ///< refuse passes whose photons could exceed this (0 = 60% of RAM)
+    /// Progressive passes after the first reuse its projection maps: one per light (null = none).
+    /// Empty: each light's map is decided and built as usual.
+    std::vector<const ProjectionMap*> prebuilt_maps;
+    /// When set, counts the directions considered so far (for progress reports).
+    std::atomic<long long>* progress = nullptr;
 };
 
 /// What happened for one light.

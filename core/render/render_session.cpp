@@ -88,6 +88,37 @@ void RenderSession::set_job(const RenderJob& job) {
     if (size > 0) job_.width = job_.height = size;
     geometry_key_ = geometry_fingerprint(job_);
     caustic_key_ = caustics_needed(job_) ? caustic_fingerprint(job_, geometry_key_) : 0;
+    accumulation_.valid = false;  // any change of job starts the accumulation again
+}
+
+void RenderSession::set_stop_rules(int passes, double time_limit, double target_error) {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+    job_.options.passes = passes;
+    job_.options.time_limit = time_limit;
+    job_.options.target_error = target_error;
+}
+
+bool RenderSession::resume() {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+    if (!accumulation_.valid || !job_.options.accumulates() || image_.width != job_.width ||
+        image_.height != job_.height)
+        return false;
+    resuming_ = true;
+    start();
+    return true;
+}
+
+void RenderSession::add_stage_time(const std::string& name, double seconds) {
+    // The progressive passes are many: one line each for their photons and their images.
+    if (name == "progressive passes" || name == "photon passes")
+        for (StageTime& s : stats_.stages)
+            if (s.name == name) {
+                s.seconds += seconds;
+                return;
+            }
+    stats_.stages.push_back({name, seconds, false});
 }
 
 void RenderSession::set_stage(const char* name) {
@@ -153,7 +184,20 @@ void RenderSession::prepare_caustics() {
     }
     set_stage("shooting photons");
     auto fresh = std::make_unique<CausticStage>();
-    build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_, textures_.get());
+    photon_progress_ = 0;
+    if (job_.options.integrator == IntegratorKind::progressive) {  // reports its progress
+        const Options& o = job_.options;
+        {
+            std::lock_guard lock(mutex_);
+            progress_.photons_total = (o.gi_wanted() ? o.gi_num_photons : o.caustic_num_photons) *
+                                      static_cast<long long>(job_.lights.size());
+        }
+        PhotonPassExtras extras;
+        extras.progress = &photon_progress_;
+        build_progressive_pass(*fresh, *scene_, job_, &cancel_requested_, extras);
+    } else {
+        build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_, textures_.get());
+    }
     fresh->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
     std::lock_guard lock(mutex_);  // published at once: the preview shows maps and counts early
     caustics_ = std::move(fresh);
@@ -177,6 +221,8 @@ void RenderSession::publish_caustic_stats() {
 void RenderSession::start() {
     cancel();
     if (worker_.joinable()) worker_.join();
+    if (!resuming_) accumulation_.valid = false;
+    resuming_ = false;
     cancel_requested_ = false;
     error_ = nullptr;
     {
@@ -223,7 +269,17 @@ void RenderSession::run() {
         // Flush-to-zero is set per task where rays are traced (tiles, photons, projection maps),
         // not here: validation must see the smallest numbers as they are.
         arena.execute([&] {
-            prepare();
+            if (!job_.scene) throw InputError("no scene to render");
+            validate_render_job(job_);
+            prepare_scene();
+            if (cancel_requested_) return;
+            // An accumulating preview shows direct light at once: a coarse pass before photons
+            // that are not cached yet are shot.
+            direct_first_ = progressive_ && job_.options.accumulates() && !accumulation_.valid && caustic_key_ != 0 &&
+                            !(caustics_ && caustics_->key == caustic_key_);
+            if (direct_first_) render_direct_preview(arena);
+            if (cancel_requested_) return;
+            prepare_caustics();
             if (!cancel_requested_) render_passes(arena, threads);
         });
     } catch (const InputError& e) {
@@ -240,10 +296,9 @@ void RenderSession::run() {
     running_ = false;
 }
 
-void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
+ShadingSetup RenderSession::make_setup() const {
     const Options& options = job_.options;
     const int width = job_.width, height = job_.height;
-    const Camera camera(job_.camera, width, height);
     ShadingSetup setup;
     setup.scene = scene_.get();
     setup.lights = job_lights(job_);
@@ -265,8 +320,6 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     setup.caustic_neighbours = options.caustic_num_neighbours;
     setup.caustic_max_distance = static_cast<float>(options.effective_caustic_max_dist());
     setup.caustic_filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
-    if (caustics_ && caustics_->map) setup.caustic_map = caustics_->map.get();
-    if (caustics_ && caustics_->gi_map) setup.gi_map = caustics_->gi_map.get();
     setup.gi_neighbours = options.gi_num_neighbours;
     setup.draw_caustics_only = options.draw_caustics_only;
     setup.draw_caustic_map = options.draw_caustic_map;
@@ -274,131 +327,298 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     setup.draw_gi_map = options.draw_gi_map;
     setup.dot_radius_per_distance =
         static_cast<float>(std::tan(glm::radians(vertical_fov_degrees(job_.camera, width, height)) * 0.5) * 2.0 / height);
-    if (options.draw_caustic_prm && caustics_)
-        for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
-            if (!caustics_->projection_maps[l].empty())
-                setup.projection_maps.emplace_back(&caustics_->projection_maps[l], caustics_->light_positions[l]);
-    const std::unique_ptr<Integrator> integrator = make_integrator(options.integrator, setup);
+    return setup;
+}
 
+/// Runs one image pass over every tile on the arena: each tile under its lock, then published
+/// with a new version, so a viewer copying tiles (fetch_tiles) never sees one half-written and
+/// never waits (it try-locks).
+struct RenderSession::PassRunner {
+    RenderSession& session;
+    tbb::task_arena& arena;
+    tbb::enumerable_thread_specific<RayCounters> counters;
+
+    template <typename Body>
+    void run(const char* name, int pass, Body&& body) {
+        session.set_stage(name);
+        {
+            std::lock_guard lock(session.mutex_);
+            session.progress_.pass = pass;
+        }
+        const double t0 = now_seconds();
+        const std::vector<Tile>& tiles = session.tiles_;
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+                              [&](const tbb::blocked_range<std::size_t>& range) {
+                                  const ScopedFlushDenormals flush;
+                                  for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                                      if (session.cancel_requested_.load(std::memory_order_relaxed)) return;
+                                      {
+                                          std::lock_guard tile_lock(session.tile_mutexes_[i]);
+                                          body(i, tiles[i], counters.local());
+                                          session.tile_versions_[i].store(++session.version_counter_,
+                                                                          std::memory_order_release);
+                                      }
+                                      session.tiles_done_.fetch_add(1, std::memory_order_relaxed);
+                                  }
+                              });
+        });
+        std::lock_guard lock(session.mutex_);
+        session.add_stage_time(name, now_seconds() - t0);
+    }
+
+    RayCounters total() const {
+        RayCounters t;
+        for (const RayCounters& c : counters) t += c;
+        return t;
+    }
+};
+
+namespace {
+
+TileContext make_context(const Options& options, const Camera& camera, const Integrator& integrator) {
     TileContext context;
-    context.integrator = integrator.get();
+    context.integrator = &integrator;
     context.camera = &camera;
     context.seed = options.reproducible ? static_cast<std::uint64_t>(options.seed)
                                         : (static_cast<std::uint64_t>(options.seed) ^ std::random_device{}());
     context.aa_grid = options.disable_aa ? 1 : options.aa_grid;
     context.aa_threshold = static_cast<float>(options.aa_threshold);
     context.draw_aa = options.draw_aa;
+    return context;
+}
 
-    const std::vector<Tile>& tiles = tiles_;
-    refine_.assign(static_cast<std::size_t>(width) * height, 0);
-    context.refine = &refine_;
-    const bool antialias = has_antialiasing_pass(context);
+}  // namespace
+
+void RenderSession::render_direct_preview(tbb::task_arena& arena) {
+    const Camera camera(job_.camera, job_.width, job_.height);
+    const ShadingSetup setup = make_setup();  // no photon map yet: direct light only
+    const std::unique_ptr<Integrator> integrator = make_integrator(job_.options.integrator, setup);
+    const TileContext context = make_context(job_.options, camera, *integrator);
     {
         std::lock_guard lock(mutex_);
-        progress_.passes = (antialias ? 2 : 1) + (progressive_ ? 1 : 0);
-        progress_.tiles_total = tiles.size() * progress_.passes;
+        progress_.passes = 1;
+        progress_.tiles_total = tiles_.size();
     }
-    tbb::enumerable_thread_specific<RayCounters> counters;
+    PassRunner runner{*this, arena, {}};
+    runner.run("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
+        render_coarse_tile(context, tile, preview_block_, image_, c);
+    });
+}
 
-    // Each tile is rendered under its lock and then published with a new version, so a viewer
-    // copying tiles (fetch_tiles) never sees one half-written and never waits (it try-locks).
-    auto run_pass = [&](const char* name, int pass, auto&& body) {
-        set_stage(name);
+void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
+    const Options& options = job_.options;
+    const int width = job_.width, height = job_.height;
+    const Camera camera(job_.camera, width, height);
+    ShadingSetup setup = make_setup();
+    if (caustics_ && caustics_->map) setup.caustic_map = caustics_->map.get();
+    if (caustics_ && caustics_->gi_map) setup.gi_map = caustics_->gi_map.get();
+    if (options.draw_caustic_prm && caustics_)
+        for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
+            if (!caustics_->projection_maps[l].empty())
+                setup.projection_maps.emplace_back(&caustics_->projection_maps[l], caustics_->light_positions[l]);
+    const std::unique_ptr<Integrator> integrator = make_integrator(options.integrator, setup);
+    TileContext context = make_context(options, camera, *integrator);
+    PassRunner runner{*this, arena, {}};
+
+    if (options.accumulates()) {
+        accumulate_passes(runner, setup, context);
+    } else {
+        const std::vector<Tile>& tiles = tiles_;
+        refine_.assign(static_cast<std::size_t>(width) * height, 0);
+        context.refine = &refine_;
+        const bool antialias = has_antialiasing_pass(context);
         {
             std::lock_guard lock(mutex_);
-            progress_.pass = pass;
+            progress_.passes = (antialias ? 2 : 1) + (progressive_ ? 1 : 0);
+            progress_.tiles_total = tiles.size() * progress_.passes;
         }
-        const double t0 = now_seconds();
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
-                              [&](const tbb::blocked_range<std::size_t>& range) {
-                                  const ScopedFlushDenormals flush;
-                                  for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                                      if (cancel_requested_.load(std::memory_order_relaxed)) return;
-                                      {
-                                          std::lock_guard tile_lock(tile_mutexes_[i]);
-                                          body(tiles[i], counters.local());
-                                          tile_versions_[i].store(++version_counter_, std::memory_order_release);
-                                      }
-                                      tiles_done_.fetch_add(1, std::memory_order_relaxed);
-                                  }
-                              });
-        });
-        std::lock_guard lock(mutex_);
-        stats_.stages.push_back({name, now_seconds() - t0, false});
-    };
-
-    if (options.integrator == IntegratorKind::progressive && (options.passes > 1 || options.time_limit > 0.0)) {
-        // Progressive photon mapping, memoryless (Knaus & Zwicker 2011): pass i shoots a fresh
-        // photon stream and gathers with radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1); the
-        // passes' images are averaged, so noise and bias both vanish as passes grow, in memory
-        // that does not depend on the number of passes.
-        constexpr double alpha = 2.0 / 3.0;
-        double radius2 = options.effective_caustic_max_dist() * options.effective_caustic_max_dist();
-        accumulation_.assign(static_cast<std::size_t>(width) * height, glm::vec3(0.0f));
-        {
-            std::lock_guard lock(mutex_);
-            progress_.passes = options.passes;  // with --time alone: grows as passes are made
-            progress_.tiles_total = tiles.size() * static_cast<std::size_t>(options.passes);
+        int pass = 0;
+        if (progressive_)
+            runner.run("preview", pass++, [&](std::size_t, const Tile& tile, RayCounters& c) {
+                render_coarse_tile(context, tile, preview_block_, image_, c);
+            });
+        if (!cancel_requested_)
+            runner.run("first samples", pass++, [&](std::size_t, const Tile& tile, RayCounters& c) {
+                render_first_pass_tile(context, tile, image_, c);
+            });
+        if (antialias && !cancel_requested_) {
+            first_pass_ = image_;
+            runner.run("anti-aliasing", pass++, [&](std::size_t, const Tile& tile, RayCounters& c) {
+                render_antialiasing_tile(context, tile, first_pass_, image_, c);
+            });
         }
-        const int pass_limit = options.time_limit > 0.0 && options.passes == 1 ? 1'000'000 : options.passes;
-        const double passes_start = now_seconds();
-        for (int p = 0; p < pass_limit && !cancel_requested_; ++p) {
-            if (p > 0 && options.time_limit > 0.0 && now_seconds() - passes_start >= options.time_limit) break;
-            std::unique_ptr<CausticStage> fresh;
-            const PhotonMap* map = caustics_ ? caustics_->map.get() : nullptr;
-            if (p > 0 && caustic_key_ != 0) {
-                RenderJob pass_job = job_;
-                pass_job.options.seed = job_.options.seed + p;  // a fresh photon stream
-                fresh = std::make_unique<CausticStage>();
-                set_stage("shooting photons");
-                build_caustic_stage(*fresh, *scene_, pass_job, &cancel_requested_, textures_.get());
-                map = fresh->map.get();
-            }
-            ShadingSetup pass_setup = setup;
-            pass_setup.caustic_map = map;
-            pass_setup.caustic_radius = static_cast<float>(std::sqrt(radius2));
-            const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
-            TileContext pass_context = context;
-            pass_context.integrator = pass_integrator.get();
-            if (!cancel_requested_)
-                run_pass("progressive pass", p, [&](const Tile& tile, RayCounters& c) {
-                    render_accumulation_tile(pass_context, tile, p, accumulation_, image_, c);
-                });
-            radius2 *= (static_cast<double>(p + 1) + alpha) / static_cast<double>(p + 2);
-        }
-        RayCounters total;
-        for (const RayCounters& c : counters) total += c;
-        std::lock_guard lock(mutex_);
-        stats_.rays = total;
-        stats_.threads = threads;
-        stats_.integrator = integrator->name();
-        ++counters_.renders;
-        return;
     }
-
-    int pass = 0;
-    if (progressive_)
-        run_pass("preview", pass++, [&](const Tile& tile, RayCounters& c) {
-            render_coarse_tile(context, tile, preview_block_, image_, c);
-        });
-    if (!cancel_requested_)
-        run_pass("first samples", pass++, [&](const Tile& tile, RayCounters& c) {
-            render_first_pass_tile(context, tile, image_, c);
-        });
-    if (antialias && !cancel_requested_) {
-        first_pass_ = image_;
-        run_pass("anti-aliasing", pass++, [&](const Tile& tile, RayCounters& c) {
-            render_antialiasing_tile(context, tile, first_pass_, image_, c);
-        });
-    }
-    RayCounters total;
-    for (const RayCounters& c : counters) total += c;
     std::lock_guard lock(mutex_);
-    stats_.rays = total;
+    stats_.rays = runner.total();
     stats_.threads = threads;
     stats_.integrator = integrator->name();
     ++counters_.renders;
+}
+
+void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& setup, const TileContext& context) {
+    // Progressive photon mapping, memoryless (Knaus & Zwicker 2011; docs/CAUSTICS.md): pass i
+    // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
+    // (i + 1); each pixel averages its passes' jittered samples. Noise and bias both vanish as
+    // passes grow, in memory fixed by the image size. r_1 comes from the N nearest photons.
+    constexpr double alpha = 2.0 / 3.0;
+    const Options& options = job_.options;
+    Accumulation& acc = accumulation_;
+    const bool resumed = acc.valid;
+    if (!resumed) {
+        accumulator_.reset(job_.width, job_.height);
+        acc = Accumulation{};
+        acc.valid = true;
+        acc.seed = context.seed;
+    }
+    const int limit = options.passes;  // 0 = none
+    const double segment_start = now_seconds(), seconds_before = acc.seconds;
+    auto elapsed = [&] { return seconds_before + (now_seconds() - start_time_); };
+    {
+        std::lock_guard lock(mutex_);
+        progress_.accumulating = true;
+        progress_.pass_limit = limit;
+        progress_.passes_done = acc.next_pass;
+        progress_.photons_emitted = acc.photons_emitted;
+        progress_.error = acc.error;
+        // Tiles count per pass; the total grows with the passes when no limit is set.
+        const bool has_photons = caustic_key_ != 0 && caustics_ && caustics_->map;
+        const int coarse = !resumed && (has_photons || (progressive_ && !direct_first_)) ? 1 : 0;
+        const int planned = limit > 0 ? std::max(1, limit - acc.next_pass) : 1;
+        progress_.passes = coarse + planned;
+        progress_.tiles_total = tiles_.size() * static_cast<std::size_t>(progress_.passes);
+    }
+    // The N-th neighbour distances a tile's k-nearest gathers saw (sum of logs, count).
+    struct TileProbes {
+        double radius_log_sum = 0.0;
+        std::uint64_t radius_samples = 0;
+    };
+    std::vector<TileProbes> probes(tiles_.size());
+    const bool has_photons = caustic_key_ != 0 && caustics_ && caustics_->map;
+    if (!resumed && has_photons) {
+        // r_1 from where the photons are: a coarse pass of k-nearest gathers (one pixel in
+        // block^2; the preview shows it) collects the N-th neighbour distances; r_1 is their
+        // geometric mean, summed in tile order (the same bits for any thread count), capped by
+        // the maximum distance.
+        const int block = progressive_ ? preview_block_ : 4;
+        runner.run(progressive_ ? "preview" : "radius probe", 0, [&](std::size_t i, const Tile& tile, RayCounters& c) {
+            const double log_before = c.radius_log_sum;
+            const std::uint64_t samples_before = c.radius_samples;
+            c.radius_log_sum = 0.0;
+            c.radius_samples = 0;
+            render_coarse_tile(context, tile, block, image_, c);
+            probes[i] = {c.radius_log_sum, c.radius_samples};
+            c.radius_log_sum += log_before;
+            c.radius_samples += samples_before;
+        });
+        double log_sum = 0.0;
+        std::uint64_t samples = 0;
+        for (const TileProbes& t : probes) log_sum += t.radius_log_sum, samples += t.radius_samples;
+        acc.first_radius = first_pass_radius(log_sum, samples, options.effective_caustic_max_dist());
+        acc.radius2 = acc.first_radius * acc.first_radius;
+    } else if (progressive_ && !resumed && !direct_first_) {
+        runner.run("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
+            render_coarse_tile(context, tile, preview_block_, image_, c);
+        });
+    }
+    double last_pass_seconds = 0.0;
+    std::string stopped_by = "passes";
+    for (int images = 0;; ++images) {
+        const int p = acc.next_pass;
+        if (cancel_requested_) {
+            stopped_by = "cancelled";
+            break;
+        }
+        if (limit > 0 && p >= limit) break;
+        if (options.target_error > 0.0 && acc.error.known && p >= 4 && acc.error.relative <= options.target_error) {
+            stopped_by = "target error";
+            break;
+        }
+        // No pass that would end past the time limit (predicted from the last one); at least one.
+        if (options.time_limit > 0.0 && p > 0 && elapsed() + last_pass_seconds > options.time_limit) {
+            stopped_by = "time";
+            break;
+        }
+        const double t0 = now_seconds();
+        std::unique_ptr<CausticStage> fresh;
+        const PhotonMap* map = has_photons ? caustics_->map.get() : nullptr;
+        if (p > 0 && has_photons) {
+            PhotonPassExtras extras;
+            extras.seed = hash_combine(acc.seed ^ 0x7061737365730000ULL, static_cast<std::uint64_t>(p));
+            extras.first = caustics_.get();
+            extras.progress = &photon_progress_;
+            photon_progress_ = 0;
+            {
+                std::lock_guard lock(mutex_);
+                progress_.photons_done = 0;
+                progress_.photons_total = 0;
+                for (const LightCausticStats& l : caustics_->lights) progress_.photons_total += l.candidates;
+            }
+            fresh = std::make_unique<CausticStage>();
+            set_stage("shooting photons");
+            build_progressive_pass(*fresh, *scene_, job_, &cancel_requested_, extras);
+            if (cancel_requested_) {
+                stopped_by = "cancelled";
+                break;
+            }
+            map = fresh->map.get();
+            for (const LightCausticStats& l : fresh->lights) acc.photons_emitted += l.candidates;
+        } else if (p == 0 && has_photons) {
+            for (const LightCausticStats& l : caustics_->lights) acc.photons_emitted += l.candidates;
+        }
+        ShadingSetup pass_setup = setup;
+        pass_setup.caustic_map = map;
+        pass_setup.caustic_radius = static_cast<float>(std::sqrt(acc.radius2));
+        const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
+        TileContext pass_context = context;
+        pass_context.integrator = pass_integrator.get();
+        pass_context.seed = acc.seed;
+        if (images > 0) {  // one more pass to show: the tile total grows when there is no limit
+            std::lock_guard lock(mutex_);
+            if (limit == 0) {
+                ++progress_.passes;
+                progress_.tiles_total += tiles_.size();
+            }
+        }
+        runner.run("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
+            render_accumulation_tile(pass_context, tile, p, accumulator_, image_, c);
+        });
+        if (cancel_requested_) {  // a partial pass: its pixels keep their sample, the next pass is new
+            acc.next_pass = p + 1;
+            stopped_by = "cancelled";
+            break;
+        }
+        // Pass p + 1 (1-based) has just been averaged: the radius of the next is r_{p+2}.
+        acc.radius2 = next_radius2(acc.radius2, p + 1, alpha);
+        acc.next_pass = p + 1;
+        acc.error = accumulator_.estimate_error();
+        last_pass_seconds = now_seconds() - t0;
+        std::lock_guard lock(mutex_);
+        progress_.passes_done = acc.next_pass;
+        progress_.photons_emitted = acc.photons_emitted;
+        progress_.samples_per_pixel = acc.next_pass;
+        progress_.radius = std::sqrt(acc.radius2);
+        progress_.error = acc.error;
+        if (fresh) {
+            stats_.caustic_lights = fresh->lights;
+            stats_.caustic_photons = fresh->map ? fresh->map->size() : 0;
+            stats_.caustic_map_bytes = fresh->map ? fresh->map->memory_bytes() : 0;
+            add_stage_time("photon passes", fresh->map_seconds + fresh->shoot_seconds + fresh->tree_seconds);
+        }
+    }
+    acc.seconds = seconds_before + (now_seconds() - segment_start);
+    std::lock_guard lock(mutex_);
+    progress_.stopped_by = stopped_by;
+    RenderStats::Accumulation& a = stats_.accumulation;
+    a.passes = acc.next_pass;
+    a.first_radius = acc.first_radius;
+    a.radius = std::sqrt(acc.radius2);
+    a.photons_emitted = acc.photons_emitted;
+    a.error = acc.error.known ? acc.error.relative : -1.0;
+    a.noise = acc.error.noise;
+    a.bias = acc.error.bias;
+    a.bytes = accumulator_.memory_bytes();
+    a.stopped_by = stopped_by;
 }
 
 void RenderSession::cancel() { cancel_requested_ = true; }
@@ -456,6 +676,7 @@ SessionProgress RenderSession::progress() const {
     std::lock_guard lock(mutex_);
     SessionProgress p = progress_;
     p.tiles_done = tiles_done_.load(std::memory_order_relaxed);
+    p.photons_done = photon_progress_.load(std::memory_order_relaxed);
     if (p.running) p.elapsed_seconds = now_seconds() - start_time_;
     return p;
 }

@@ -10,6 +10,7 @@
 #include "core/geometry/ray.h"
 #include "core/scene/scene_desc.h"
 #include "core/render/tile_renderer.h"
+#include "core/render/progressive_accumulator.h"
 
 #include <tbb/task_arena.h>
 
@@ -46,6 +47,18 @@ struct SessionProgress {
     bool finished = false;   ///< completed every pass
     bool cancelled = false;
     std::string stage;       ///< what is being done now
+    /// Progressive accumulation (Options::accumulates()): passes averaged so far, their limit
+    /// (0 = none), photon directions over all passes, mean samples per pixel, the radius of the
+    /// last pass and the estimated relative error (ErrorEstimate::known false until 2 passes).
+    bool accumulating = false;
+    int passes_done = 0, pass_limit = 0;
+    long long photons_emitted = 0;
+    double samples_per_pixel = 0.0;
+    double radius = 0.0;
+    ErrorEstimate error;
+    /// The photon stage of the current pass: directions considered so far, of how many.
+    long long photons_done = 0, photons_total = 0;
+    std::string stopped_by;  ///< why accumulation stopped: "passes", "time", "target error", "cancelled"
 };
 
 /// Tile edge length in pixels.
@@ -69,6 +82,16 @@ public:
 
     /// Starts rendering on the background thread pool (preparing first if needed); returns at once.
     void start();
+
+    /// Progressive accumulation: continues the accumulation the last render stopped (a pause or
+    /// a stopping rule), with the same job, until its stopping rules (see set_stop_rules) say
+    /// otherwise. Returns false (and does nothing) when there is nothing to continue: another job
+    /// was set since, or the job does not accumulate.
+    bool resume();
+
+    /// Changes the progressive stopping rules (--passes, --time, --target-error) of the job
+    /// without restarting its accumulation; they take effect at the next start or resume.
+    void set_stop_rules(int passes, double time_limit, double target_error);
 
     /// Asks the running render to stop; tiles not yet started are dropped. Returns at once.
     void cancel();
@@ -125,7 +148,12 @@ private:
     void prepare_caustics();    // projection maps, photons, k-d tree
     void publish_caustic_stats();  // under mutex_
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
+    struct PassRunner;
+    void accumulate_passes(PassRunner& runner, const ShadingSetup& setup, const TileContext& context);
+    ShadingSetup make_setup() const;  // everything the integrator needs but the photon maps
+    void render_direct_preview(tbb::task_arena& arena);  // a coarse pass before photons are shot
     void set_stage(const char* name);
+    void add_stage_time(const std::string& name, double seconds);  // under mutex_
 
     RenderJob job_;
     std::uint64_t geometry_key_ = 0;        // fingerprint of what the BVH depends on
@@ -138,7 +166,21 @@ private:
 
     Image image_, first_pass_;
     std::vector<std::uint8_t> refine_;  // corner_grid: pixels the anti-aliasing pass refines
-    std::vector<glm::vec3> accumulation_;  // progressive passes: the sum of every pass's samples
+    // Progressive accumulation, kept across start()s so that resume() continues it.
+    struct Accumulation {
+        bool valid = false;       // the buffers hold passes of the current job
+        int next_pass = 0;        // 0-based index of the next pass
+        double first_radius = 0.0, radius2 = 0.0;  // r_1 and r^2 of the next pass
+        std::uint64_t seed = 0;   // base of the photon and pixel streams
+        long long photons_emitted = 0;
+        double seconds = 0.0;     // rendering time over every start and resume
+        ErrorEstimate error;
+    };
+    ProgressiveAccumulator accumulator_;
+    Accumulation accumulation_;
+    bool resuming_ = false;
+    bool direct_first_ = false;  // this render showed a direct-light preview before its photons
+    std::atomic<long long> photon_progress_{0};
     std::vector<Tile> tiles_;
     std::unique_ptr<std::mutex[]> tile_mutexes_;
     std::unique_ptr<std::atomic<std::uint64_t>[]> tile_versions_;

@@ -17,11 +17,20 @@ struct RayCounters {
     std::uint64_t supersampled_pixels = 0;
     std::uint64_t gathers = 0;           ///< caustic radiance estimates
     double gather_seconds = 0.0;         ///< time spent in them (summed over threads)
+    // Progressive photon mapping's probes (issue 11), read per camera ray by the tile renderer:
+    // the gathered photon radiance kd E (mean of the channels) at the pass radius r and at r/sqrt 2
+    // (their difference estimates the radius bias), and the N-th neighbour distances of the
+    // first pass's k-nearest gathers (their geometric mean is the first radius).
+    double photon_value = 0.0, photon_value_inner = 0.0;
+    double radius_log_sum = 0.0;
+    std::uint64_t radius_samples = 0;
 
     RayCounters& operator+=(const RayCounters& o) {
         primary += o.primary, shadow += o.shadow, reflected += o.reflected, refracted += o.refracted;
         samples += o.samples, supersampled_pixels += o.supersampled_pixels;
         gathers += o.gathers, gather_seconds += o.gather_seconds;
+        photon_value += o.photon_value, photon_value_inner += o.photon_value_inner;
+        radius_log_sum += o.radius_log_sum, radius_samples += o.radius_samples;
         return *this;
     }
     std::uint64_t total_rays() const { return primary + shadow + reflected + refracted; }
@@ -64,6 +73,15 @@ struct RenderStats {
     std::vector<LightCausticStats> gi_lights;  ///< classic --gi: the GI pass of each light
     std::size_t gi_photons = 0, gi_map_bytes = 0;
     std::string integrator;                    ///< "classic" or "progressive"
+    /// Progressive passes (issue 11); passes = 0 when the render did not accumulate.
+    struct Accumulation {
+        int passes = 0;
+        double first_radius = 0.0, radius = 0.0;  ///< r_1 and the radius of the last pass
+        long long photons_emitted = 0;            ///< directions over every pass
+        double error = -1.0, noise = 0.0, bias = 0.0;  ///< estimated relative error (< 0: unknown)
+        std::size_t bytes = 0;                    ///< the accumulation buffers
+        std::string stopped_by;                   ///< "passes", "time", "target error", "cancelled"
+    } accumulation;
 };
 
 }  // namespace caustica

@@ -124,22 +124,32 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
     }
 }
 
-void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass, std::vector<glm::vec3>& sum,
-                              Image& out, RayCounters& counters) {
-    const float weight = 1.0f / static_cast<float>(pass + 1);
+void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
+                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters) {
+    // The probes are read from zero around each ray (then added back), so that what a pixel gets
+    // does not depend on what else the thread's counters summed: the same bits for any thread count.
+    const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
+    double photon_total = 0.0, inner_total = 0.0;
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
             const std::size_t index = static_cast<std::size_t>(y) * out.width + x;
             // One stream per (pixel, pass): the same image for any thread count.
             RandomStream random(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
             const float px = static_cast<float>(x) + random.uniform(), py = static_cast<float>(y) + random.uniform();
-            const glm::vec3 c = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
+            counters.photon_value = counters.photon_value_inner = 0.0;
+            PassSample sample;
+            sample.colour = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
+            sample.photon = counters.photon_value;
+            sample.photon_inner = counters.photon_value_inner;
+            photon_total += sample.photon;
+            inner_total += sample.photon_inner;
             ++counters.samples;
-            check_pixel(c, x, y);
-            sum[index] += c;
-            out.at(x, y) = sum[index] * weight;
+            check_pixel(sample.colour, x, y);
+            out.at(x, y) = accumulator.add(index, sample);
         }
     }
+    counters.photon_value = photon_before + photon_total;
+    counters.photon_value_inner = inner_before + inner_total;
 }
 
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold) {

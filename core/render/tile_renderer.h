@@ -4,6 +4,7 @@
 
 #include "core/scene/camera.h"
 #include "core/render/image.h"
+#include "core/render/progressive_accumulator.h"
 #include "core/integrators/integrator.h"
 
 #include <cstdint>
@@ -45,10 +46,10 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
 /// (sum of |RGB| differences of the clamped colours).
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold);
 
-/// One progressive pass: a jittered sample per pixel, added to `sum` (width x height), and the
-/// mean over the `pass + 1` passes so far written to `out`.
-void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass, std::vector<glm::vec3>& sum,
-                              Image& out, RayCounters& counters);
+/// One progressive pass (0-based `pass`): a jittered sample per pixel, deterministic per (pixel,
+/// pass), added to the accumulator with its photon probes; the pixel's mean goes to `out`.
+void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
+                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters);
 
 /// B3's difference of the four corner samples of a pixel: the sum over the 6 pairs of the
 /// squared RGB differences (unclamped).

@@ -64,8 +64,11 @@ struct Options {
     double script_timeout = 60.0;  ///< seconds of script evaluation, 0 = none
     long long script_memory_mib = 2048;  ///< budget of the script (Lua heap + what it makes C++ hold), 0 = none
     long long seed = 0;            ///< base of the random streams
-    int passes = 1;                ///< progressive: photon passes averaged with a shrinking radius
-    double time_limit = 0.0;       ///< progressive: stop passing after this many seconds (0 = no limit)
+    /// Progressive photon mapping (issue 11): passes of fresh photons and pixel samples averaged
+    /// with a shrinking radius. 1 = the single k-nearest pass; 0 = until another rule stops it.
+    int passes = 1;
+    double time_limit = 0.0;       ///< progressive: no pass that would end past this many seconds (0 = no limit)
+    double target_error = 0.0;     ///< progressive: stop once the estimated relative error is below (0 = none)
 
     /// The maximum photon gather distance in effect (resolves the "0.15 x unit distance" default).
     double effective_caustic_max_dist() const {
@@ -74,6 +77,10 @@ struct Options {
 
     /// Whether the GI photon map is wanted (--gi or one of its debug views).
     bool gi_wanted() const { return gi || draw_gi_map || draw_gi_only; }
+    /// Whether the progressive integrator accumulates passes (a stopping rule other than one pass).
+    bool accumulates() const {
+        return integrator == IntegratorKind::progressive && (passes != 1 || time_limit > 0.0 || target_error > 0.0);
+    }
 };
 
 /// Applies command-line style tokens ("--aa-grid", "4", "-S", "--threads=2") to `options`.
