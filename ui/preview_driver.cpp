@@ -28,9 +28,33 @@ PreviewDriver::PreviewDriver(DriverSettings settings) : settings_(settings) {}
 
 void PreviewDriver::request(const RenderJob& job) { pending_ = job; }
 
+void PreviewDriver::pause() {
+    if (busy()) paused_ = true;  // advance() cancels the render
+}
+
+void PreviewDriver::resume() {
+    if (!paused_) return;
+    paused_ = false;
+    resume_due_ = collected_ || cancel_sent_;  // else the pause has not stopped the render yet
+}
+
+void PreviewDriver::set_stop_rules(const StopRules& rules) {
+    if (pending_) rules.apply(pending_->options);
+    if (!started_ || job_.options.integrator != IntegratorKind::progressive) return;
+    if (StopRules::of(job_.options) == rules && !new_rules_) return;
+    new_rules_ = rules;
+}
+
+bool PreviewDriver::maps_final() const {
+    if (pending_ || !started_) return false;
+    if (collected_ && progress_.finished) return true;
+    return job_.options.accumulates() && accumulation_.passes_done >= 1;
+}
+
 bool PreviewDriver::first_full_pass_done() const {
     if (pending_ || !started_) return false;
     if (progress_.finished) return true;
+    if (job_.options.accumulates()) return accumulation_.passes_done >= 1;
     const std::size_t per_pass = tiles_per_pass(progress_);
     const std::size_t full = per_pass * (settings_.progressive ? 2 : 1);
     return per_pass > 0 && progress_.tiles_done >= full && progress_.passes >= (settings_.progressive ? 2 : 1);
@@ -62,27 +86,47 @@ void PreviewDriver::poll() {
     if (pending_) advance(false);
 }
 
+void PreviewDriver::take_progress() {
+    progress_ = session_.progress();
+    if (!progress_.accumulating) return;
+    // A resumed render reports its pass count at once, its samples and radius after its first pass.
+    if (progress_.samples_per_pixel == 0.0 && progress_.passes_done > 0 && accumulation_.accumulating) {
+        progress_.samples_per_pixel = accumulation_.samples_per_pixel;
+        progress_.radius = accumulation_.radius;
+    }
+    accumulation_ = progress_;
+}
+
 void PreviewDriver::advance(bool spin) {
     const double now = now_seconds();
-    progress_ = session_.progress();
+    take_progress();
     if (started_ && !collected_ && !progress_.running) collect();
-    if (pending_ && !collected_) {
+    if (!collected_ && (pending_ || paused_ || new_rules_)) {
         // A render younger than max_preview_wait finishes its coarse preview first, so that the
         // view keeps up while the camera moves instead of restarting before anything is shown.
+        // A pause or new stopping rules stop it at once.
         const std::size_t per_pass = tiles_per_pass(progress_);
         const bool preview_shown = per_pass > 0 && progress_.tiles_done >= per_pass;
-        if (!cancel_sent_ && (preview_shown || now - started_at_ >= settings_.max_preview_wait_seconds)) {
+        const bool due = paused_ || new_rules_ || preview_shown || now - started_at_ >= settings_.max_preview_wait_seconds;
+        if (!cancel_sent_ && due) {
             session_.cancel();  // returns at once; the worker stops after its current tile
             cancel_sent_ = true;
         }
         if (cancel_sent_ && spin) {
             const double deadline = now + settings_.cancel_spin_seconds;
-            while ((progress_ = session_.progress()).running && now_seconds() < deadline)
+            while (session_.progress().running && now_seconds() < deadline)
                 std::this_thread::sleep_for(std::chrono::microseconds(100));
+            take_progress();
             if (!progress_.running) collect();
         }
     }
-    if (pending_ && collected_) restart();
+    if (collected_) {
+        if (new_rules_) apply_stop_rules();
+        if (pending_) restart();
+        else if (resume_due_ && progress_.cancelled) continue_accumulation();  // not after an error or an end
+        resume_due_ = false;
+    }
+    if (!maps_refreshed_ && maps_final()) refresh_maps();
 }
 
 void PreviewDriver::poll_stats() {
@@ -103,7 +147,7 @@ void PreviewDriver::collect() {
     } catch (const std::exception& e) {
         error_ = e.what();
     }
-    progress_ = session_.progress();
+    take_progress();
     poll_stats();
     // Passes that ran to their end; when the render was cancelled, its last pass was cut short.
     std::vector<const StageTime*> passes;
@@ -118,6 +162,7 @@ void PreviewDriver::collect() {
 }
 
 void PreviewDriver::refresh_maps() {
+    maps_refreshed_ = true;
     std::vector<LightProjectionMap> maps = session_.projection_maps();
     if (same_projection_maps(maps, maps_)) return;
     maps_ = std::move(maps);
@@ -128,6 +173,8 @@ void PreviewDriver::restart() {
     const double t0 = now_seconds();
     job_ = std::move(*pending_);
     pending_.reset();
+    paused_ = resume_due_ = false;  // a new job is rendered even when the old one was paused
+    new_rules_.reset();             // the job carries its rules
     try {
         // The stopped render's last tiles are still the newest: copy them now. From start() on,
         // every tile published belongs to the new render.
@@ -139,15 +186,42 @@ void PreviewDriver::restart() {
         error_ = e.what();
         return;
     }
+    accumulation_ = {};
+    maps_refreshed_ = false;
     started_ = true;
     collected_ = false;
     cancel_sent_ = false;
     started_at_ = now_seconds();
-    progress_ = session_.progress();
+    take_progress();
     generation_ = progress_.generation;
     ++restarts_;
     last_restart_ = started_at_ - t0;
     longest_restart_ = std::max(longest_restart_, last_restart_);
+}
+
+void PreviewDriver::continue_accumulation() {
+    resume_due_ = false;
+    fetch();  // the stopped render's last tiles, as restart() does
+    if (!session_.resume()) {  // not an accumulation, or paused before its first pass
+        pending_ = job_;
+        restart();
+        return;
+    }
+    collected_ = false;
+    cancel_sent_ = false;
+    started_at_ = now_seconds();
+    take_progress();
+    generation_ = progress_.generation;
+}
+
+void PreviewDriver::apply_stop_rules() {
+    const StopRules rules = *new_rules_;
+    new_rules_.reset();
+    rules.apply(job_.options);
+    session_.set_stop_rules(rules.passes, rules.time_limit, rules.target_error);  // the worker has stopped
+    // The accumulation goes on under the new rules, unless paused (then when resumed).
+    // A render its old rules had ended continues too: the new ones may allow more passes.
+    if (!paused_ && !pending_ && started_ && (progress_.cancelled || progress_.finished)) continue_accumulation();
 }
 
 void PreviewDriver::fetch() {
@@ -165,6 +239,13 @@ void PreviewDriver::fetch() {
             changed_.push_back(i);
             changed_generations_.push_back(generation_);
         }
+}
+
+std::string stop_reason(const std::string& stopped_by) {
+    if (stopped_by == "passes") return "the pass limit";
+    if (stopped_by == "time") return "the time limit";
+    if (stopped_by == "target error") return "the target error";
+    return stopped_by;
 }
 
 bool same_projection_maps(const std::vector<LightProjectionMap>& a, const std::vector<LightProjectionMap>& b) {

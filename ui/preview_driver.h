@@ -1,7 +1,9 @@
 // Drives a RenderSession for an interactive view without ever waiting for it: a new job cancels
 // the running render and starts once the worker has stopped (a few milliseconds), tiles are
 // copied as they are published, and results (errors, projection maps, stage times) are collected
-// when a render ends. Everything here runs on the UI thread; nothing here knows about GL.
+// when a render ends. A progressive accumulation can be paused and resumed, and its stopping
+// rules changed, without starting it again. Everything here runs on the UI thread; nothing here
+// knows about GL.
 #pragma once
 
 #include "core/render/render_session.h"
@@ -21,6 +23,22 @@ struct PassTime {
     double seconds = 0.0;
 };
 
+/// When a progressive accumulation stops (Options::passes, time_limit, target_error).
+struct StopRules {
+    int passes = 0;             ///< pass limit, 0 = none
+    double time_limit = 0.0;    ///< seconds of rendering, 0 = none
+    double target_error = 0.0;  ///< estimated relative error, 0 = none
+
+    /// The rules of a job's options, and writing them back.
+    static StopRules of(const Options& options) { return {options.passes, options.time_limit, options.target_error}; }
+    void apply(Options& options) const {
+        options.passes = passes;
+        options.time_limit = time_limit;
+        options.target_error = target_error;
+    }
+    bool operator==(const StopRules&) const = default;
+};
+
 /// Tuning of the restart policy.
 struct DriverSettings {
     bool progressive = true;               ///< coarse pass before the full passes
@@ -36,8 +54,22 @@ class PreviewDriver {
 public:
     explicit PreviewDriver(DriverSettings settings = {});
 
-    /// Asks for `job` to be rendered next (the newest request wins).
+    /// Asks for `job` to be rendered next (the newest request wins). A request made while paused
+    /// ends the pause: the new job is rendered.
     void request(const RenderJob& job);
+
+    /// Stops the running render, keeping what a progressive accumulation has gathered; the image
+    /// stays as it is. Does nothing when no render is running.
+    void pause();
+    /// Continues the paused render: an accumulation from its pass count, any other render (or an
+    /// accumulation paused before its first pass) from the start.
+    void resume();
+    /// Whether the preview is paused.
+    bool paused() const { return paused_; }
+    /// Changes the stopping rules of the progressive accumulation without starting it again: the
+    /// running render stops and continues under the new rules (an accumulation that has stopped
+    /// continues too, when the new rules allow more passes). Nothing else is rendered again.
+    void set_stop_rules(const StopRules& rules);
 
     /// The per-frame step: restarts when due, copies new tiles, collects ended renders. Never
     /// waits for a tile; may wait up to cancel_spin_seconds for a cancelled worker to stop.
@@ -63,16 +95,26 @@ public:
 
     /// The progress snapshot taken by the last update().
     const SessionProgress& progress() const { return progress_; }
+    /// The last snapshot of the progressive accumulation shown (passes, photons, error, radius):
+    /// kept across a pause and resume, reset when another job starts. `accumulating` is false
+    /// before the first pass of a job that accumulates, and for jobs that do not.
+    const SessionProgress& accumulation() const { return accumulation_; }
     /// Whether a job has been started.
     bool has_job() const { return started_; }
     /// The job of the current (last started) render.
     const RenderJob& job() const { return job_; }
     /// Whether a requested job waits for the running render to stop.
     bool pending() const { return pending_.has_value(); }
-    /// Whether the current render has completed its first full-resolution pass (and nothing is pending).
+    /// Whether the current render has completed its first full-resolution pass (and nothing is
+    /// pending); for an accumulation, its first progressive pass.
     bool first_full_pass_done() const;
-    /// Whether the current render completed every pass (and nothing is pending).
+    /// Whether the current render completed every pass (and nothing is pending); an accumulation
+    /// only finishes on a stopping rule (a pause is not an end).
     bool finished() const { return !pending_ && started_ && collected_ && progress_.finished; }
+    /// Whether the photon maps of the current job are final (projection_maps() shows them): the
+    /// render finished, or an accumulation has completed its first pass (later passes' photons
+    /// are not kept).
+    bool maps_final() const;
     /// Whether the current render is between start and collection.
     bool busy() const { return started_ && !collected_; }
 
@@ -104,9 +146,12 @@ public:
     const RenderSession& session() const { return session_; }
 
 private:
-    void advance(bool spin);  // the restart policy: cancel when due, collect, restart
+    void advance(bool spin);  // the restart policy: cancel when due, collect, restart or resume
+    void take_progress();  // progress_ and accumulation_ from the session
     void collect();   // the worker has stopped: error, stats, maps, pass times
     void restart();   // start the pending job
+    void continue_accumulation();  // resume the stopped render (or start it again)
+    void apply_stop_rules();  // the worker has stopped: the new rules, then continue
     void fetch();     // copy the tiles the newest render published since the last copy
     void refresh_maps();
     void poll_stats();  // stats_ and computed_stages_ from the session
@@ -116,8 +161,10 @@ private:
     RenderJob job_;
     std::optional<RenderJob> pending_;
     bool started_ = false, collected_ = true, cancel_sent_ = false;
+    bool paused_ = false, resume_due_ = false, maps_refreshed_ = false;
+    std::optional<StopRules> new_rules_;
     double started_at_ = 0.0, stats_polled_at_ = 0.0;
-    SessionProgress progress_;
+    SessionProgress progress_, accumulation_;
 
     Image image_;
     std::vector<std::uint64_t> seen_, previous_seen_;
@@ -136,6 +183,9 @@ private:
     double longest_restart_ = 0.0, last_restart_ = 0.0;
     std::uint64_t restarts_ = 0;
 };
+
+/// Why an accumulation stopped (SessionProgress::stopped_by), in words: "the pass limit", ...
+std::string stop_reason(const std::string& stopped_by);
 
 /// Whether two projection maps have the same cells and light.
 bool same_projection_maps(const std::vector<LightProjectionMap>& a, const std::vector<LightProjectionMap>& b);

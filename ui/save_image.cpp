@@ -1,5 +1,7 @@
 #include "ui/save_image.h"
 
+#include "ui/preview_driver.h"
+
 #include "core/io/png_io.h"
 
 #include <cstdio>
@@ -14,8 +16,15 @@ std::string format_vector(const glm::dvec3& v) {
     return text;
 }
 
-/// Which passes the saved samples come from.
+std::string format_number(const char* format, double value) {
+    char text[64];
+    std::snprintf(text, sizeof text, format, value);
+    return text;
+}
+
+/// Which passes the saved samples come from: for an accumulation, how many passes it averaged.
 std::string passes_done(const SessionProgress& p) {
+    if (p.accumulating) return std::to_string(p.passes_done);
     if (p.finished) return "complete";
     const std::size_t per_pass = p.passes > 0 ? p.tiles_total / static_cast<std::size_t>(p.passes) : 0;
     const std::size_t whole = per_pass > 0 ? p.tiles_done / per_pass : 0;
@@ -31,14 +40,30 @@ std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJo
     std::snprintf(fovy, sizeof fovy, "%.9g", c.fovy_degrees);
     char seconds[32];
     std::snprintf(seconds, sizeof seconds, "%.3f", progress.elapsed_seconds);
-    return {{"Software", "caustica " CAUSTICA_VERSION " (view)"},
-            {"Source", scene_path},
-            {"caustica:options", describe_non_default(job.options)},
-            {"caustica:camera", "eye " + format_vector(c.eye) + " view " + format_vector(c.view) + " up " +
-                                    format_vector(c.up) + " fovy " + fovy},
-            {"caustica:size", std::to_string(job.width) + "x" + std::to_string(job.height)},
-            {"caustica:passes", passes_done(progress)},
-            {"caustica:render-seconds", seconds}};
+    std::vector<std::pair<std::string, std::string>> text = {
+        {"Software", "caustica " CAUSTICA_VERSION " (view)"},
+        {"Source", scene_path},
+        {"caustica:integrator", job.options.integrator == IntegratorKind::classic ? "classic" : "progressive"},
+        {"caustica:options", describe_non_default(job.options)},
+        {"caustica:camera", "eye " + format_vector(c.eye) + " view " + format_vector(c.view) + " up " +
+                                format_vector(c.up) + " fovy " + fovy},
+        {"caustica:size", std::to_string(job.width) + "x" + std::to_string(job.height)},
+        {"caustica:passes", passes_done(progress)},
+        {"caustica:render-seconds", seconds}};
+    if (!progress.accumulating) return text;
+    // A progressive accumulation: what the saved mean is made of, and how good it is thought to be.
+    const ErrorEstimate& e = progress.error;
+    text.push_back({"caustica:pass-limit", progress.pass_limit > 0 ? std::to_string(progress.pass_limit) : "none"});
+    text.push_back({"caustica:samples-per-pixel", format_number("%.6g", progress.samples_per_pixel)});
+    text.push_back({"caustica:photons-emitted", std::to_string(progress.photons_emitted)});
+    text.push_back({"caustica:radius", format_number("%.6g", progress.radius)});
+    text.push_back({"caustica:estimated-error",
+                    e.known ? format_number("%.4g", e.relative) + " (noise " + format_number("%.4g", e.noise) +
+                                  ", bias " + format_number("%.4g", e.bias) + ")"
+                            : "unknown (fewer than 2 passes)"});
+    const char* state = progress.running ? "refining" : progress.finished ? "stopped" : "paused";
+    text.push_back({"caustica:state", progress.finished ? std::string(state) + " by " + stop_reason(progress.stopped_by) : state});
+    return text;
 }
 
 SaveResult save_preview_png(const std::string& path, const Image& image, const RenderJob& job,
@@ -54,8 +79,9 @@ SaveResult save_preview_png(const std::string& path, const Image& image, const R
     } catch (const std::exception& e) {
         return {SaveOutcome::failed, e.what()};
     }
+    const std::string passes = progress.accumulating ? passes_done(progress) + " passes" : passes_done(progress);
     return {SaveOutcome::written, "wrote " + path + " (" + std::to_string(image.width) + " x " +
-                                      std::to_string(image.height) + ", " + passes_done(progress) + ")"};
+                                      std::to_string(image.height) + ", " + passes + ")"};
 }
 
 }  // namespace caustica::ui

@@ -25,7 +25,9 @@ struct SaveResult {
     std::string message;
 };
 
-/// The PNG text chunks of a preview image: software, scene, camera, options, passes done.
+/// The PNG text chunks of a preview image: software, scene, integrator, camera, options, passes
+/// done; for a progressive accumulation also its pass limit, samples per pixel, photons, radius,
+/// estimated error and whether it was refining, paused or stopped.
 std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJob& job, const std::string& scene_path,
                                                                   const SessionProgress& progress);
 

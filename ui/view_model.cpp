@@ -30,10 +30,25 @@ LoadSettings load_settings(const ModelConfig& config) {
     return settings;
 }
 
+/// Whether option tokens set a progressive stopping rule (any value, --passes 1 too).
+bool sets_stop_rules(const std::vector<std::string>& tokens) {
+    Options probe;
+    probe.passes = -1;  // values no token can give
+    probe.time_limit = probe.target_error = -1.0;
+    apply_option_tokens(probe, tokens);
+    return probe.passes != -1 || probe.time_limit != -1.0 || probe.target_error != -1.0;
+}
+
 }  // namespace
 
 ViewModel::ViewModel(ModelConfig config)
-    : config_(std::move(config)), source_(load_settings(config_), config_.recent_file), driver_(config_.driver) {}
+    : config_(std::move(config)), source_(load_settings(config_), config_.recent_file), driver_(config_.driver) {
+    try {
+        command_line_stop_rules_ = sets_stop_rules(config_.option_tokens);
+    } catch (const std::exception&) {
+        // bad tokens are reported by the first compose()
+    }
+}
 
 ViewModel::~ViewModel() {
     if (overlay_trace_.valid()) overlay_trace_.wait();
@@ -219,10 +234,39 @@ void ViewModel::set_threads(int threads) {
     mark_dirty();
 }
 
+// --- progressive refinement
+
+StopRules ViewModel::stop_rules_for(const RenderJob& job) const {
+    if (person_stop_rules_) return *person_stop_rules_;
+    const bool given = command_line_stop_rules_ || job.option_origin("passes") || job.option_origin("time") ||
+                       job.option_origin("target-error");
+    return given ? StopRules::of(job.options) : StopRules{};  // none given: refine until paused
+}
+
+StopRules ViewModel::stop_rules() const {
+    if (!scene_) return person_stop_rules_.value_or(StopRules{});
+    RenderJob job = scene_->renders[inputs_.render_index];
+    apply_option_tokens(job.options, config_.option_tokens);
+    return stop_rules_for(job);
+}
+
+void ViewModel::set_stop_rules(const StopRules& rules) {
+    if (rules == stop_rules()) return;
+    person_stop_rules_ = rules;
+    driver_.set_stop_rules(rules);  // the job to come carries them too (compose)
+}
+
+void ViewModel::set_paused(bool paused) {
+    if (paused) driver_.pause();
+    else driver_.resume();
+}
+
 RenderJob ViewModel::compose(const JobInputs& inputs) const {
     RenderJob job = inputs.scene->renders[inputs.render_index];
     apply_option_tokens(job.options, config_.option_tokens);
     inputs.overrides.merge(CausticKnobs::from(job.options), inputs.person_knobs).apply(job.options);
+    // The classic integrator has no passes to limit.
+    if (job.options.integrator == IntegratorKind::progressive) stop_rules_for(job).apply(job.options);
     if (inputs.threads >= 0) job.options.threads = inputs.threads;
     int width = job.width, height = job.height;
     if (job.options.resolution_override > 0) width = height = job.options.resolution_override;
@@ -321,7 +365,7 @@ void ViewModel::update_overlay() {
 
 bool ViewModel::overlay_settled() const {
     if (!overlay_.enabled) return true;
-    return driver_.finished() && !overlay_trace_.valid() && traced_maps_version_ == driver_.maps_version() &&
+    return driver_.maps_final() && !overlay_trace_.valid() && traced_maps_version_ == driver_.maps_version() &&
            overlay_ == traced_settings_ && !overlay_stale_;
 }
 
@@ -332,8 +376,8 @@ std::string ViewModel::overlay_note() const {
     if (job.options.projection_map == ProjectionMapMode::off) return "projection maps are off";
     const std::vector<LightProjectionMap>& maps = driver_.projection_maps();
     if (maps.empty())
-        return driver_.finished() ? "no light has a projection map (only lights with quadratic falloff shoot photons)"
-                                  : "the map is shown once the render has finished";
+        return driver_.maps_final() ? "no light has a projection map (only lights with quadratic falloff shoot photons)"
+                                    : "the map is shown once the render has finished (progressive: its first pass)";
     if (overlay_.light >= static_cast<int>(maps.size())) return "no such light";
     if (overlay_trace_.valid()) return "tracing the map onto the scene...";
     if (!overlay_world_) return {};
@@ -351,7 +395,8 @@ std::string ViewModel::default_save_path() const {
 
 SaveResult ViewModel::save(const std::string& path, bool overwrite) {
     if (!driver_.has_job()) return {SaveOutcome::failed, "nothing rendered yet"};
-    return save_preview_png(path, driver_.image(), driver_.job(), scene_path_, driver_.progress(), overwrite);
+    const SessionProgress& progress = driver_.accumulation().accumulating ? driver_.accumulation() : driver_.progress();
+    return save_preview_png(path, driver_.image(), driver_.job(), scene_path_, progress, overwrite);
 }
 
 }  // namespace caustica::ui

@@ -1,7 +1,9 @@
 // The preview's state and actions, free of GL so that they can be tested: the open scene, the
 // orbit camera, the caustic knobs, render and display settings, the overlay and saving. Every
 // change becomes a modified RenderJob for the one RenderSession, whose stage cache decides what
-// is redone (camera: image only; N or max distance: gather only; photons: no BVH rebuild).
+// is redone (camera: image only; N or max distance: gather only; photons: no BVH rebuild). The
+// progressive integrator refines without limit unless a stopping rule is given (command line,
+// gr.option or the panel); its rules and a pause change nothing else.
 #pragma once
 
 #include "ui/caustic_knobs.h"
@@ -105,6 +107,18 @@ public:
     /// Back to the script's knobs.
     void reset_knobs();
 
+    // --- progressive refinement
+    /// The stopping rules of the progressive integrator in effect: the person's, else those of the
+    /// command line or gr.option, else none (refine until paused).
+    StopRules stop_rules() const;
+    /// Sets the person's stopping rules; the accumulation goes on under them (nothing restarts).
+    void set_stop_rules(const StopRules& rules);
+    /// Pauses (keeping the accumulation) or resumes the render; a change of the view or of a knob
+    /// while paused is rendered, which ends the pause.
+    void set_paused(bool paused);
+    /// Whether the render is paused.
+    bool paused() const { return driver_.paused(); }
+
     // --- render and display settings
     /// Render resolution relative to the script's (0.1 .. 2).
     double resolution_scale() const { return inputs_.resolution_scale; }
@@ -170,6 +184,7 @@ private:
     RenderJob compose(const JobInputs& inputs) const;
     CausticKnobs script_knobs(const JobInputs& inputs) const;
     CausticKnobs effective_knobs(const JobInputs& inputs) const;
+    StopRules stop_rules_for(const RenderJob& job) const;  // job: the script's with the command line's options
     bool same_inputs(const JobInputs& a, const JobInputs& b) const;
     void install(LoadedScene loaded);
     void watch_current();
@@ -185,6 +200,8 @@ private:
     JobInputs inputs_;
     std::optional<JobInputs> running_inputs_, committed_inputs_, requested_inputs_;
     std::uint64_t seen_restarts_ = 0;
+    bool command_line_stop_rules_ = false;  // --passes, --time or --target-error among option_tokens
+    std::optional<StopRules> person_stop_rules_;
     OrbitCamera orbit_;
     bool target_known_ = false;
     std::optional<glm::dvec2> pending_orbit_;

@@ -40,8 +40,12 @@ struct ShadingSetup {
     int caustic_neighbours = 5;
     float caustic_max_distance = 0.15f;
     PhotonFilter caustic_filter = PhotonFilter::none;  ///< progressive only
-    /// Progressive passes (--passes > 1): the gather radius of this pass, 0 = the k-nearest estimate.
-    float caustic_radius = 0.0f;
+    /// Progressive passes (issue 11): the gather radius is the pixel's r_1 times `radius_scale`;
+    /// r_1 is RayCounters::first_radius when known, else found at the pixel's first gather point
+    /// x as the distance to the N-th photon of `radius_map` (the first pass's map) within the
+    /// maximum distance, or the maximum distance when fewer lie there. Null: the k-nearest estimate.
+    const PhotonMap* radius_map = nullptr;
+    float radius_scale = 1.0f;
     const PhotonMap* gi_map = nullptr;                 ///< classic --gi
     int gi_neighbours = 100;
     // Debug views (B6).

@@ -146,25 +146,34 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
 glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
                                        RayCounters& counters) const {
     // Every gather also feeds the progressive probes (RayCounters): kd E at the radius and at the
-    // inner radius r / sqrt 2, and in a k-nearest pass the N-th neighbour's distance.
+    // inner radius r / sqrt 2, and in a progressive pass the radius.
     auto mean = [](const glm::vec3& c) { return (static_cast<double>(c.x) + c.y + c.z) / 3.0; };
     const auto t0 = std::chrono::steady_clock::now();
     glm::vec3 irradiance, inner;
-    if (setup_.caustic_radius > 0.0f) {  // a progressive pass: the fixed radius of its pass
-        irradiance = setup_.caustic_map->disc_estimate(hit.position, n, setup_.caustic_radius, &inner);
+    thread_local std::vector<Neighbour> scratch;
+    if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
+        scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
+    if (setup_.radius_map) {  // a progressive pass: the pixel's r_1, shrunk
+        if (!(counters.first_radius > 0.0f)) {  // the pixel's first gather: r_1 from the first map
+            const std::uint32_t k = static_cast<std::uint32_t>(setup_.caustic_neighbours);
+            const std::uint32_t found = setup_.radius_map->tree().nearest(hit.position, k, setup_.caustic_max_distance,
+                                                                          scratch.data());
+            counters.first_radius = found == k ? std::sqrt(scratch[0].distance2) : setup_.caustic_max_distance;
+        }
+        const float radius = counters.first_radius * setup_.radius_scale;
+        if (radius > 0.0f) {
+            counters.radius_log_sum += std::log(static_cast<double>(radius));
+            ++counters.radius_samples;
+            irradiance = setup_.caustic_map->disc_estimate(hit.position, n, radius, &inner);
+        } else {
+            irradiance = inner = glm::vec3(0.0f);
+        }
     } else {
-        thread_local std::vector<Neighbour> scratch;
-        if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
-            scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
         PhotonMap::Probe probe;
         irradiance = setup_.caustic_map->estimate(hit.position, n, setup_.caustic_neighbours,
                                                   setup_.caustic_max_distance, setup_.caustic_filter,
                                                   scratch.data(), probe);
         inner = probe.inner;
-        if (probe.kth_distance > 0.0f) {
-            counters.radius_log_sum += std::log(static_cast<double>(probe.kth_distance));
-            ++counters.radius_samples;
-        }
     }
     counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++counters.gathers;

@@ -34,7 +34,6 @@ glm::vec3 PhotonMap::estimate(const glm::vec3& p, const glm::vec3& n, int k, flo
     // Radius of the disc holding them: the k-th photon's distance, or the search radius.
     const float radius2 = found == static_cast<std::uint32_t>(k) ? scratch[0].distance2 : max_distance * max_distance;
     if (!(radius2 > 0.0f)) return glm::vec3(0.0f);
-    if (found == static_cast<std::uint32_t>(k)) probe.kth_distance = std::sqrt(radius2);
     glm::vec3 sum(0.0f), inner(0.0f);
     for (std::uint32_t i = 0; i < found; ++i) {
         const Photon& photon = photons_[scratch[i].index];

@@ -44,11 +44,9 @@ public:
     /// `scratch` must hold k entries.
     glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,
                        Neighbour* scratch) const;
-    /// The same with the progressive probes: `probe` gets the k-th photon's distance (0 when fewer
-    /// than k lie within max_distance) and the unfiltered estimate over the inner disc of half
-    /// the area (radius r / sqrt 2).
+    /// The same with the progressive bias probe: `probe` gets the unfiltered estimate over the
+    /// inner disc of half the area (radius r / sqrt 2).
     struct Probe {
-        float kth_distance = 0.0f;
         glm::vec3 inner{0.0f};
     };
     glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,

@@ -14,11 +14,6 @@ constexpr double region_fraction = 0.1;
 
 }  // namespace
 
-double first_pass_radius(double log_distance_sum, std::uint64_t samples, double max_distance) {
-    if (samples == 0) return max_distance;
-    return std::min(max_distance, std::exp(log_distance_sum / static_cast<double>(samples)));
-}
-
 void ProgressiveAccumulator::reset(int width, int height) {
     width_ = width;
     height_ = height;

@@ -31,12 +31,8 @@ struct ErrorEstimate {
     std::size_t region_pixels = 0;
 };
 
-/// The first pass's radius from the N-th neighbour distances seen by its k-nearest gathers: their
-/// geometric mean, capped by the maximum distance (the maximum distance when there were none).
-double first_pass_radius(double log_distance_sum, std::uint64_t samples, double max_distance);
-
-/// The global radius sequence of Knaus & Zwicker (2011): r^2 after pass i (1-based) from r^2 at
-/// pass i, r^2_{i+1} = r^2_i (i + alpha) / (i + 1).
+/// The radius sequence of Knaus & Zwicker (2011): r^2 after pass i (1-based) from r^2 at pass i,
+/// r^2_{i+1} = r^2_i (i + alpha) / (i + 1).
 inline double next_radius2(double radius2, int pass, double alpha) {
     return radius2 * (static_cast<double>(pass) + alpha) / (static_cast<double>(pass) + 1.0);
 }
@@ -55,6 +51,9 @@ public:
 
     /// The mean colour of a pixel (black before its first sample).
     glm::vec3 mean(std::size_t pixel) const;
+    /// A pixel's first gather radius r_1 (0 until a pass gathered for it), and setting it once.
+    float first_radius(std::size_t pixel) const { return pixels_[pixel].first_radius; }
+    void set_first_radius(std::size_t pixel, float radius) { pixels_[pixel].first_radius = radius; }
     /// Samples a pixel has (passes that reached it).
     std::uint32_t samples(std::size_t pixel) const { return pixels_[pixel].count; }
 
@@ -75,6 +74,7 @@ private:
         float photon = 0.0f;    ///< mean photon radiance
         float bias = 0.0f;      ///< mean bias probe 2 (L_r - L_{r/sqrt 2})
         float bias_m2 = 0.0f;
+        float first_radius = 0.0f;  ///< r_1 of the pixel's gathers (0 until its first gather)
         std::uint32_t count = 0;
     };
     int width_ = 0, height_ = 0;

@@ -460,7 +460,8 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
     // Progressive photon mapping, memoryless (Knaus & Zwicker 2011; docs/CAUSTICS.md): pass i
     // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
     // (i + 1); each pixel averages its passes' jittered samples. Noise and bias both vanish as
-    // passes grow, in memory fixed by the image size. r_1 comes from the N nearest photons.
+    // passes grow, in memory fixed by the image size. r_1(x) is where the first pass's map has its
+    // N-th nearest photon from x (capped by the maximum distance): small where photons crowd.
     constexpr double alpha = 2.0 / 3.0;
     const Options& options = job_.options;
     Accumulation& acc = accumulation_;
@@ -482,46 +483,19 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         progress_.photons_emitted = acc.photons_emitted;
         progress_.error = acc.error;
         // Tiles count per pass; the total grows with the passes when no limit is set.
-        const bool has_photons = caustic_key_ != 0 && caustics_ && caustics_->map;
-        const int coarse = !resumed && (has_photons || (progressive_ && !direct_first_)) ? 1 : 0;
+        const int coarse = progressive_ && !resumed && !direct_first_ ? 1 : 0;
         const int planned = limit > 0 ? std::max(1, limit - acc.next_pass) : 1;
         progress_.passes = coarse + planned;
         progress_.tiles_total = tiles_.size() * static_cast<std::size_t>(progress_.passes);
     }
-    // The N-th neighbour distances a tile's k-nearest gathers saw (sum of logs, count).
-    struct TileProbes {
-        double radius_log_sum = 0.0;
-        std::uint64_t radius_samples = 0;
-    };
-    std::vector<TileProbes> probes(tiles_.size());
     const bool has_photons = caustic_key_ != 0 && caustics_ && caustics_->map;
-    if (!resumed && has_photons) {
-        // r_1 from where the photons are: a coarse pass of k-nearest gathers (one pixel in
-        // block^2; the preview shows it) collects the N-th neighbour distances; r_1 is their
-        // geometric mean, summed in tile order (the same bits for any thread count), capped by
-        // the maximum distance.
-        const int block = progressive_ ? preview_block_ : 4;
-        runner.run(progressive_ ? "preview" : "radius probe", 0, [&](std::size_t i, const Tile& tile, RayCounters& c) {
-            const double log_before = c.radius_log_sum;
-            const std::uint64_t samples_before = c.radius_samples;
-            c.radius_log_sum = 0.0;
-            c.radius_samples = 0;
-            render_coarse_tile(context, tile, block, image_, c);
-            probes[i] = {c.radius_log_sum, c.radius_samples};
-            c.radius_log_sum += log_before;
-            c.radius_samples += samples_before;
-        });
-        double log_sum = 0.0;
-        std::uint64_t samples = 0;
-        for (const TileProbes& t : probes) log_sum += t.radius_log_sum, samples += t.radius_samples;
-        acc.first_radius = first_pass_radius(log_sum, samples, options.effective_caustic_max_dist());
-        acc.radius2 = acc.first_radius * acc.first_radius;
-    } else if (progressive_ && !resumed && !direct_first_) {
+    if (progressive_ && !resumed && !direct_first_) {
         runner.run("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
             render_coarse_tile(context, tile, preview_block_, image_, c);
         });
     }
-    double last_pass_seconds = 0.0;
+    double last_pass_seconds = 0.0, radius_log_before = 0.0;
+    std::uint64_t radius_samples_before = 0;
     std::string stopped_by = "passes";
     for (int images = 0;; ++images) {
         const int p = acc.next_pass;
@@ -568,7 +542,8 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         }
         ShadingSetup pass_setup = setup;
         pass_setup.caustic_map = map;
-        pass_setup.caustic_radius = static_cast<float>(std::sqrt(acc.radius2));
+        pass_setup.radius_map = has_photons ? caustics_->map.get() : nullptr;
+        pass_setup.radius_scale = static_cast<float>(std::sqrt(acc.scale2));
         const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
         TileContext pass_context = context;
         pass_context.integrator = pass_integrator.get();
@@ -588,8 +563,18 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
             stopped_by = "cancelled";
             break;
         }
-        // Pass p + 1 (1-based) has just been averaged: the radius of the next is r_{p+2}.
-        acc.radius2 = next_radius2(acc.radius2, p + 1, alpha);
+        // The radius where the pass gathered (geometric mean over its gathers, for reports).
+        const RayCounters pass_total = runner.total();
+        const double radius = pass_total.radius_samples > radius_samples_before
+                                  ? std::exp((pass_total.radius_log_sum - radius_log_before) /
+                                             static_cast<double>(pass_total.radius_samples - radius_samples_before))
+                                  : 0.0;
+        radius_log_before = pass_total.radius_log_sum;
+        radius_samples_before = pass_total.radius_samples;
+        if (p == 0) acc.first_radius = radius;
+        acc.radius = radius;
+        // Pass p + 1 (1-based) has just been averaged: the next gathers within r_{p+2}.
+        acc.scale2 = next_radius2(acc.scale2, p + 1, alpha);
         acc.next_pass = p + 1;
         acc.error = accumulator_.estimate_error();
         last_pass_seconds = now_seconds() - t0;
@@ -597,7 +582,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         progress_.passes_done = acc.next_pass;
         progress_.photons_emitted = acc.photons_emitted;
         progress_.samples_per_pixel = acc.next_pass;
-        progress_.radius = std::sqrt(acc.radius2);
+        progress_.radius = acc.radius;
         progress_.error = acc.error;
         if (fresh) {
             stats_.caustic_lights = fresh->lights;
@@ -612,7 +597,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
     RenderStats::Accumulation& a = stats_.accumulation;
     a.passes = acc.next_pass;
     a.first_radius = acc.first_radius;
-    a.radius = std::sqrt(acc.radius2);
+    a.radius = acc.radius;
     a.photons_emitted = acc.photons_emitted;
     a.error = acc.error.known ? acc.error.relative : -1.0;
     a.noise = acc.error.noise;

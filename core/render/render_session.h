@@ -170,7 +170,8 @@ private:
     struct Accumulation {
         bool valid = false;       // the buffers hold passes of the current job
         int next_pass = 0;        // 0-based index of the next pass
-        double first_radius = 0.0, radius2 = 0.0;  // r_1 and r^2 of the next pass
+        double scale2 = 1.0;      // (r_i / r_1)^2 of the next pass
+        double first_radius = 0.0, radius = 0.0;  // mean radius of the first and the last pass
         std::uint64_t seed = 0;   // base of the photon and pixel streams
         long long photons_emitted = 0;
         double seconds = 0.0;     // rendering time over every start and resume

@@ -24,6 +24,9 @@ struct RayCounters {
     double photon_value = 0.0, photon_value_inner = 0.0;
     double radius_log_sum = 0.0;
     std::uint64_t radius_samples = 0;
+    /// In and out around one camera ray of a progressive pass (not summed): the pixel's first
+    /// radius r_1 when known (else 0), set by the first gather that computes it.
+    float first_radius = 0.0f;
 
     RayCounters& operator+=(const RayCounters& o) {
         primary += o.primary, shadow += o.shadow, reflected += o.reflected, refracted += o.refracted;

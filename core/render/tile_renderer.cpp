@@ -137,8 +137,11 @@ void render_accumulation_tile(const TileContext& context, const Tile& tile, int 
             RandomStream random(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
             const float px = static_cast<float>(x) + random.uniform(), py = static_cast<float>(y) + random.uniform();
             counters.photon_value = counters.photon_value_inner = 0.0;
+            counters.first_radius = accumulator.first_radius(index);
             PassSample sample;
             sample.colour = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
+            if (accumulator.first_radius(index) == 0.0f && counters.first_radius > 0.0f)
+                accumulator.set_first_radius(index, counters.first_radius);
             sample.photon = counters.photon_value;
             sample.photon_inner = counters.photon_value_inner;
             photon_total += sample.photon;
