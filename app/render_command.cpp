@@ -180,7 +180,23 @@ int render_job(RenderSession& session, const RenderJob& job, const std::string& 
         const SessionProgress p = session.progress();
         if (!p.running) break;
         if (interrupted) session.cancel();
-        bar.update(p.tiles_total ? double(p.tiles_done) / double(p.tiles_total) : 0.0, p.elapsed_seconds, p.stage);
+        if (p.accumulating) {
+            // Passes have no fixed total: the nearest stopping rule gives the fraction.
+            double fraction = 0.0;
+            if (o.passes > 0) fraction = std::max(fraction, double(p.passes_done) / o.passes);
+            if (o.time_limit > 0.0) fraction = std::max(fraction, p.elapsed_seconds / o.time_limit);
+            if (o.target_error > 0.0 && p.error.known)
+                fraction = std::max(fraction, std::min(1.0, o.target_error / p.error.relative));
+            char status[160];
+            if (p.error.known)
+                std::snprintf(status, sizeof status, "pass %d, %.3g photons, estimated error %.1f%%", p.passes_done,
+                              double(p.photons_emitted), 100.0 * p.error.relative);
+            else
+                std::snprintf(status, sizeof status, "pass %d, %.3g photons", p.passes_done, double(p.photons_emitted));
+            bar.update(std::min(1.0, fraction), p.elapsed_seconds, status);
+        } else {
+            bar.update(p.tiles_total ? double(p.tiles_done) / double(p.tiles_total) : 0.0, p.elapsed_seconds, p.stage);
+        }
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     bar.finish();
@@ -194,12 +210,21 @@ int render_job(RenderSession& session, const RenderJob& job, const std::string& 
     const RenderStats stats = session.stats();
     char seconds[32];
     std::snprintf(seconds, sizeof seconds, "%.3f", stats.total_seconds);
+    std::vector<std::pair<std::string, std::string>> text = {{"Software", "caustica " CAUSTICA_VERSION},
+                                                             {"Source", scene_path},
+                                                             {"caustica:options", describe_non_default(o)},
+                                                             {"caustica:render-seconds", seconds}};
+    if (const RenderStats::Accumulation& a = stats.accumulation; a.passes > 0) {
+        text.push_back({"caustica:passes", std::to_string(a.passes)});
+        text.push_back({"caustica:photons", std::to_string(a.photons_emitted)});
+        if (a.error >= 0.0) {
+            char error[32];
+            std::snprintf(error, sizeof error, "%.4f", a.error);
+            text.push_back({"caustica:estimated-error", error});
+        }
+    }
     try {
-        write_png_atomic(path, session.image(), o.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear,
-                         {{"Software", "caustica " CAUSTICA_VERSION},
-                          {"Source", scene_path},
-                          {"caustica:options", describe_non_default(o)},
-                          {"caustica:render-seconds", seconds}},
+        write_png_atomic(path, session.image(), o.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear, text,
                          &interrupted);
     } catch (const PngWriteCancelled&) {
         if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
@@ -275,6 +300,11 @@ int run_render_command(const std::vector<std::string>& args) {
                 });
         paths.push_back(output_path(parsed, jobs[i], i, jobs.size()));
         check_writable(paths.back(), jobs[i], !parsed.output.empty());
+    }
+    for (const RenderJob& job : jobs) {
+        const Options& o = job.options;
+        if (o.integrator == IntegratorKind::progressive && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
+            throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
     }
     RenderSession session;
     for (std::size_t i = 0; i < jobs.size(); ++i) {

@@ -154,6 +154,8 @@ private:
     void render_direct_preview(tbb::task_arena& arena);  // a coarse pass before photons are shot
     void set_stage(const char* name);
     void add_stage_time(const std::string& name, double seconds);  // under mutex_
+    void warn_once(const std::string& warning);
+    void warn_about_options();  // options the job's integrator ignores
 
     RenderJob job_;
     std::uint64_t geometry_key_ = 0;        // fingerprint of what the BVH depends on
