@@ -54,8 +54,11 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     int integrator = static_cast<int>(k.integrator);
     if (ImGui::Combo("integrator", &integrator, "classic\0progressive\0"))
         k.integrator = static_cast<IntegratorKind>(integrator);
-    hint("classic: the original renderer's rules (SEED_BEHAVIOUR.md Part B); progressive: our photon mapper. "
-         "Switching re-shoots photons and re-renders, keeps the BVH");
+    hint("classic: the original renderer's rules (SEED_BEHAVIOUR.md Part B); progressive: our photon mapper, "
+         "refining pass after pass until paused or a stopping rule. Switching re-shoots photons and re-renders, "
+         "keeps the BVH");
+    if (k.integrator == IntegratorKind::progressive && model.knobs().integrator == IntegratorKind::progressive)
+        draw_refinement_controls(model);
     const long long photons_lo = 0, photons_hi = 5'000'000;
     ImGui::SliderScalar("photons", ImGuiDataType_S64, &k.num_photons, &photons_lo, &photons_hi, "%lld",
                         ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);

@@ -21,11 +21,18 @@ void status_line(const ViewModel& model) {
     const SessionProgress& p = driver.progress();
     const std::string name = std::filesystem::path(model.scene_path()).filename().string();
     if (driver.has_job()) {
-        const double done = p.tiles_total ? 100.0 * p.tiles_done / p.tiles_total : 0.0;
-        const char* what = p.running ? (p.stage.empty() ? "starting" : p.stage.c_str())
-                                     : p.finished ? "done" : p.cancelled ? "stopped" : "failed";
-        ImGui::Text("%s  %d x %d  %s %3.0f%%  %.2f s", name.c_str(), driver.job().width, driver.job().height, what, done,
-                    p.elapsed_seconds);
+        const std::string what = render_state(model);
+        if (driver.job().options.accumulates()) {  // passes without end: the percentage means nothing
+            ImGui::Text("%s  %d x %d  %s  %.1f s", name.c_str(), driver.job().width, driver.job().height, what.c_str(),
+                        p.elapsed_seconds);
+            const SessionProgress& a = driver.accumulation();
+            if (a.accumulating) ImGui::TextUnformatted(refinement_summary(a).c_str());
+        } else {
+            const double done = p.tiles_total ? 100.0 * p.tiles_done / p.tiles_total : 0.0;
+            ImGui::Text("%s  %d x %d  %s %3.0f%%  %.2f s", name.c_str(), driver.job().width, driver.job().height,
+                        what.c_str(), done, p.elapsed_seconds);
+        }
+        photon_progress_bar(p, 320.0f);
     } else {
         ImGui::TextUnformatted(model.loading() ? "loading..." : "no scene");
     }
@@ -62,6 +69,7 @@ void help_window(PanelState& state, glm::vec2 area) {
         {"R, Home", "back to the script's camera"},
         {"O / C", "projection-map outline / occupied cells"},
         {"P / D", "photons-only view / photon dots"},
+        {"Space", "pause / resume the refinement"},
         {"E / Shift+E", "exposure up / down one stop (0: reset with Ctrl+E)"},
         {"G", "sRGB display"},
         {"F5", "reload the scene (it also reloads by itself)"},

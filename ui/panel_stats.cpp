@@ -68,10 +68,27 @@ void draw_stats_section(const ViewModel& model, const PanelState& state) {
     const double pixels = std::max(1.0, static_cast<double>(driver.job().width) * driver.job().height);
     double pass_seconds = 0.0;
     for (const StageTime& s : stats.stages)
-        if (s.name == "preview" || s.name == "first samples" || s.name == "anti-aliasing") pass_seconds += s.seconds;
-    ImGui::Text("pass %d of %d: %s", std::min(p.pass + 1, std::max(1, p.passes)), std::max(1, p.passes),
-                p.running ? (p.stage.empty() ? "starting" : p.stage.c_str())
-                          : (p.finished ? "done" : p.cancelled ? "cancelled" : "-"));
+        if (s.name == "preview" || s.name == "first samples" || s.name == "anti-aliasing" ||
+            s.name == "progressive passes")
+            pass_seconds += s.seconds;
+    const SessionProgress& a = driver.accumulation();
+    if (driver.job().options.accumulates()) {
+        ImGui::Text("%s: %d passes%s", render_state(model).c_str(), a.passes_done,
+                    a.pass_limit > 0 ? (" of " + std::to_string(a.pass_limit)).c_str() : ", no limit");
+        if (a.accumulating) {
+            ImGui::Text("%.0f samples/pixel, %s photons, radius %.3g", a.samples_per_pixel,
+                        short_count(static_cast<double>(a.photons_emitted)).c_str(), a.radius);
+            if (a.error.known)
+                ImGui::Text("estimated error %.2f%%: noise %.2f%%, bias %.2f%%", 100.0 * a.error.relative,
+                            100.0 * a.error.noise, 100.0 * a.error.bias);
+            else
+                ImGui::TextDisabled("estimated error: known after 2 passes");
+        }
+    } else {
+        ImGui::Text("pass %d of %d: %s", std::min(p.pass + 1, std::max(1, p.passes)), std::max(1, p.passes),
+                    p.running ? (p.stage.empty() ? "starting" : p.stage.c_str())
+                              : (p.finished ? "done" : p.cancelled ? "cancelled" : "-"));
+    }
     if (stats.rays.samples > 0)
         ImGui::Text("%.2f samples/pixel, %.2f M rays/s", stats.rays.samples / pixels,
                     pass_seconds > 0.0 ? stats.rays.total_rays() / pass_seconds * 1e-6 : 0.0);

@@ -45,6 +45,17 @@ void draw_view_section(ViewModel& model, PanelState& state);
 /// Statistics section: photons, stage times, passes, samples, rays/s, time per pass.
 void draw_stats_section(const ViewModel& model, const PanelState& state);
 
+/// Progressive refinement: Pause/Resume and the stopping rules (pass limit, time, target error).
+void draw_refinement_controls(ViewModel& model);
+/// "37 of 100 passes  |  370M photons  |  37 spp  |  est. error 4.2% (...)  |  radius 0.031".
+std::string refinement_summary(const SessionProgress& accumulation);
+/// What the render does, in words: "refining", "paused", "shooting photons", "stopped by the pass limit".
+std::string render_state(const ViewModel& model);
+/// A count in few digits: 950, 12.5k, 370M, 1.2G.
+std::string short_count(double n);
+/// A progress bar of the photon stage while photons are shot (nothing otherwise).
+void photon_progress_bar(const SessionProgress& progress, float width);
+
 /// Status line, error banner, help, overwrite question and messages over the image area.
 void draw_image_overlays(ViewModel& model, PanelState& state, const ImageLayout& layout, glm::vec2 window);
 

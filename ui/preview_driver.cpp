@@ -94,7 +94,23 @@ void PreviewDriver::take_progress() {
         progress_.samples_per_pixel = accumulation_.samples_per_pixel;
         progress_.radius = accumulation_.radius;
     }
+    // The stages sum the progressive passes: their times for the plot come from the pass count.
+    // A render's first snapshot only starts the clock (a resumed one counts its cut pass as done).
+    const double now = now_seconds();
+    if (progress_.generation != clock_generation_) {
+        clock_generation_ = progress_.generation;
+        pass_clock_ = now;
+    } else if (progress_.passes_done > accumulation_.passes_done) {
+        const int passes = progress_.passes_done - accumulation_.passes_done;
+        for (int i = 0; i < passes; ++i) record_pass("progressive pass", (now - pass_clock_) / passes);
+        pass_clock_ = now;
+    }
     accumulation_ = progress_;
+}
+
+void PreviewDriver::record_pass(const std::string& name, double seconds) {
+    pass_history_.push_back({generation_, name, seconds});
+    if (pass_history_.size() > pass_history_length) pass_history_.pop_front();
 }
 
 void PreviewDriver::advance(bool spin) {
@@ -132,7 +148,7 @@ void PreviewDriver::advance(bool spin) {
 void PreviewDriver::poll_stats() {
     stats_ = session_.stats();
     for (const StageTime& s : stats_.stages) {
-        if (s.cached || is_pass(s.name)) continue;
+        if (s.cached || is_pass(s.name) || s.name == "progressive passes") continue;
         auto it = std::find_if(computed_stages_.begin(), computed_stages_.end(),
                                [&](const StageTime& c) { return c.name == s.name; });
         if (it == computed_stages_.end()) computed_stages_.push_back(s);
@@ -154,10 +170,7 @@ void PreviewDriver::collect() {
     for (const StageTime& s : stats_.stages)
         if (is_pass(s.name)) passes.push_back(&s);
     if (progress_.cancelled && !passes.empty()) passes.pop_back();
-    for (const StageTime* s : passes) {
-        pass_history_.push_back({progress_.generation, s->name, s->seconds});
-        if (pass_history_.size() > pass_history_length) pass_history_.pop_front();
-    }
+    for (const StageTime* s : passes) record_pass(s->name, s->seconds);
     if (progress_.finished) refresh_maps();
 }
 

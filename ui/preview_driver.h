@@ -19,7 +19,7 @@ namespace caustica::ui {
 /// One completed image pass, for the time-per-pass plot.
 struct PassTime {
     std::uint64_t generation = 0;
-    std::string name;  ///< "preview", "first samples", "anti-aliasing"
+    std::string name;  ///< "preview", "first samples", "anti-aliasing", "progressive pass"
     double seconds = 0.0;
 };
 
@@ -147,7 +147,8 @@ public:
 
 private:
     void advance(bool spin);  // the restart policy: cancel when due, collect, restart or resume
-    void take_progress();  // progress_ and accumulation_ from the session
+    void take_progress();  // progress_ and accumulation_ from the session, progressive pass times
+    void record_pass(const std::string& name, double seconds);  // into pass_history_
     void collect();   // the worker has stopped: error, stats, maps, pass times
     void restart();   // start the pending job
     void continue_accumulation();  // resume the stopped render (or start it again)
@@ -164,6 +165,8 @@ private:
     bool paused_ = false, resume_due_ = false, maps_refreshed_ = false;
     std::optional<StopRules> new_rules_;
     double started_at_ = 0.0, stats_polled_at_ = 0.0;
+    double pass_clock_ = 0.0;  // when the accumulation's pass count last changed (or it started)
+    std::uint64_t clock_generation_ = 0;  // the render pass_clock_ belongs to
     SessionProgress progress_, accumulation_;
 
     Image image_;

@@ -67,6 +67,7 @@ void ViewApp::handle_keys() {
     if (pressed(keys::escape)) state_.show_help = false;
     if (pressed(keys::r) || pressed(keys::home)) model_.reset_camera();
     if (pressed(keys::f5)) model_.reload();
+    if (pressed(keys::space)) model_.set_paused(!model_.paused());
     OverlaySettings overlay = model_.overlay();
     if (pressed(keys::o)) overlay.enabled = !overlay.enabled;
     if (pressed(keys::c)) overlay.cells = !overlay.cells;

@@ -106,7 +106,9 @@ std::string view_help() {
            "  --orbit YAW,PITCH  orbit the camera by these degrees before rendering (+yaw: to the camera's\n"
            "                     right around the target, +pitch: upwards)\n"
            "  --headless         render the window off-screen with OSMesa (chosen automatically without DISPLAY)\n"
-           "  --final            with --snapshot: wait until every pass (anti-aliasing too) is done\n"
+           "  --final            with --snapshot: wait until every pass (anti-aliasing too) is done; the\n"
+           "                     progressive integrator refines without end unless --passes, --time or\n"
+           "                     --target-error says when to stop (else --final waits for its first pass)\n"
            "  --size WxH         window size (default 1280x720)\n"
            "  --allow-read DIR   let scenes read files under DIR too (repeatable; a shared texture folder)\n"
            "Render options ('caustica render --help') apply over the scene's gr.option calls.\n";

@@ -53,8 +53,11 @@ bool ScriptedRun::done(const ViewModel& model) {
     bool ready = false;
     if (!model.loading()) {
         const bool idle_after_error = !model.error().empty() && !driver.busy() && !driver.pending();
+        // A progressive preview without a stopping rule never finishes: --final waits for its first pass.
+        const Options& o = driver.job().options;
+        const bool endless = o.accumulates() && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0;
         const bool image_ready = !model.changes_pending() &&
-                                 (final_image_ ? driver.finished() : driver.first_full_pass_done()) &&
+                                 (final_image_ && !endless ? driver.finished() : driver.first_full_pass_done()) &&
                                  model.overlay_settled();
         ready = !model.has_scene() || image_ready || idle_after_error;
     }

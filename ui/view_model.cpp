@@ -236,18 +236,23 @@ void ViewModel::set_threads(int threads) {
 
 // --- progressive refinement
 
-StopRules ViewModel::stop_rules_for(const RenderJob& job) const {
+StopRules ViewModel::stop_rules_for(const RenderJob& script_job, const Options& options) const {
     if (person_stop_rules_) return *person_stop_rules_;
-    const bool given = command_line_stop_rules_ || job.option_origin("passes") || job.option_origin("time") ||
-                       job.option_origin("target-error");
-    return given ? StopRules::of(job.options) : StopRules{};  // none given: refine until paused
+    const bool given = command_line_stop_rules_ || script_job.option_origin("passes") ||
+                       script_job.option_origin("time") || script_job.option_origin("target-error");
+    return given ? StopRules::of(options) : StopRules{};  // none given: refine until paused
 }
 
 StopRules ViewModel::stop_rules() const {
-    if (!scene_) return person_stop_rules_.value_or(StopRules{});
-    RenderJob job = scene_->renders[inputs_.render_index];
-    apply_option_tokens(job.options, config_.option_tokens);
-    return stop_rules_for(job);
+    if (!scene_ || person_stop_rules_) return person_stop_rules_.value_or(StopRules{});
+    const RenderJob& script_job = scene_->renders[inputs_.render_index];
+    Options options = script_job.options;
+    try {
+        apply_option_tokens(options, config_.option_tokens);
+    } catch (const std::exception&) {
+        // compose() reports bad tokens
+    }
+    return stop_rules_for(script_job, options);
 }
 
 void ViewModel::set_stop_rules(const StopRules& rules) {
@@ -266,7 +271,7 @@ RenderJob ViewModel::compose(const JobInputs& inputs) const {
     apply_option_tokens(job.options, config_.option_tokens);
     inputs.overrides.merge(CausticKnobs::from(job.options), inputs.person_knobs).apply(job.options);
     // The classic integrator has no passes to limit.
-    if (job.options.integrator == IntegratorKind::progressive) stop_rules_for(job).apply(job.options);
+    if (job.options.integrator == IntegratorKind::progressive) stop_rules_for(job, job.options).apply(job.options);
     if (inputs.threads >= 0) job.options.threads = inputs.threads;
     int width = job.width, height = job.height;
     if (job.options.resolution_override > 0) width = height = job.options.resolution_override;

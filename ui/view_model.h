@@ -184,7 +184,7 @@ private:
     RenderJob compose(const JobInputs& inputs) const;
     CausticKnobs script_knobs(const JobInputs& inputs) const;
     CausticKnobs effective_knobs(const JobInputs& inputs) const;
-    StopRules stop_rules_for(const RenderJob& job) const;  // job: the script's with the command line's options
+    StopRules stop_rules_for(const RenderJob& script_job, const Options& options) const;  // options: with the command line's
     bool same_inputs(const JobInputs& a, const JobInputs& b) const;
     void install(LoadedScene loaded);
     void watch_current();

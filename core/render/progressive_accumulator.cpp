@@ -66,17 +66,17 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
         const double value = channel_mean(p.mean);
         const double noise_var = p.value_m2 / (n - 1.0) / n;  // variance of the mean of n passes
         const double bias_noise_var = p.bias_m2 / (n - 1.0) / n;
-        // The image shows clamp(value); the converged one clamp(value - bias). A pixel whose
-        // value and corrected value are both surely above 1 shows white either way: no error.
-        const double truth = value - p.bias, sigma = std::sqrt(noise_var);
-        shown += std::clamp(truth, 0.0, 1.0);
-        if (value - 2.0 * sigma >= 1.0 && truth - 2.0 * sigma >= 1.0) continue;
-        const double bias_shown = std::clamp(value, 0.0, 1.0) - std::clamp(truth, 0.0, 1.0);
+        shown += std::clamp(value, 0.0, 1.0);
+        // A pixel surely above 1 shows white, as its converged value most likely does (a bright
+        // caustic's blur lowers its peaks): it counts no error.
+        if (value - 2.0 * std::sqrt(noise_var) >= 1.0) continue;
         noise2 += noise_var;
-        bias2 += bias_shown * bias_shown;
-        // The squared probe carries its own noise; where nothing clamps, its expected value is
-        // subtracted below.
-        if (value <= 1.0 && truth <= 1.0 && truth >= 0.0) bias_noise2 += bias_noise_var;
+        // The squared mean probe is the squared bias plus the probe's own variance (a difference
+        // of two noisy estimates: about twice the image's noise): the latter is subtracted over
+        // the region below. Clamping here to the noisy corrected value would turn that noise
+        // into bias.
+        bias2 += static_cast<double>(p.bias) * p.bias;
+        bias_noise2 += bias_noise_var;
     }
     if (region == 0 || !(shown > 0.0)) return e;
     const double mean = shown / static_cast<double>(region);

@@ -495,11 +495,16 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         progress_.pass_limit = limit;
         progress_.passes_done = acc.next_pass;
         progress_.photons_emitted = acc.photons_emitted;
+        progress_.samples_per_pixel = acc.next_pass;
+        progress_.radius = acc.radius;
         progress_.error = acc.error;
-        // Tiles count per pass; the total grows with the passes when no limit is set.
+        progress_.accumulated_seconds = acc.seconds;
+        // Tiles count per pass (a direct-light preview already shown included); the total grows
+        // with the passes when no limit is set.
+        const int shown = direct_first_ ? 1 : 0;
         const int coarse = progressive_ && !resumed && !direct_first_ ? 1 : 0;
         const int planned = limit > 0 ? std::max(1, limit - acc.next_pass) : 1;
-        progress_.passes = coarse + planned;
+        progress_.passes = shown + coarse + planned;
         progress_.tiles_total = tiles_.size() * static_cast<std::size_t>(progress_.passes);
     }
     const bool has_photons = caustic_key_ != 0 && caustics_ && caustics_->map;
@@ -577,6 +582,8 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         });
         if (cancel_requested_) {  // a partial pass: its pixels keep their sample, the next pass is new
             acc.next_pass = p + 1;
+            acc.scale2 = next_radius2(acc.scale2, p + 1, alpha);
+            acc.error = accumulator_.estimate_error();
             stopped_by = "cancelled";
             break;
         }
@@ -598,6 +605,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         std::lock_guard lock(mutex_);
         progress_.passes_done = acc.next_pass;
         progress_.photons_emitted = acc.photons_emitted;
+        progress_.accumulated_seconds = seconds_before + (now_seconds() - segment_start);
         progress_.samples_per_pixel = acc.next_pass;
         progress_.radius = acc.radius;
         progress_.error = acc.error;
@@ -611,6 +619,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
     acc.seconds = seconds_before + (now_seconds() - segment_start);
     std::lock_guard lock(mutex_);
     progress_.stopped_by = stopped_by;
+    progress_.accumulated_seconds = acc.seconds;
     RenderStats::Accumulation& a = stats_.accumulation;
     a.passes = acc.next_pass;
     a.first_radius = acc.first_radius;

@@ -55,6 +55,7 @@ struct SessionProgress {
     long long photons_emitted = 0;
     double samples_per_pixel = 0.0;
     double radius = 0.0;
+    double accumulated_seconds = 0.0;  ///< rendering time of the accumulation over every start and resume
     ErrorEstimate error;
     /// The photon stage of the current pass: directions considered so far, of how many.
     long long photons_done = 0, photons_total = 0;

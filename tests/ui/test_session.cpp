@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <ostream>
 #include <random>
@@ -334,6 +335,82 @@ TEST(PreviewDriver, DestroyingTheDriverWhileRenderingReturnsPromptly) {
     const auto t0 = clock_type::now();
     driver.reset();
     EXPECT_LT(seconds_since(t0), 0.05 * slowdown);
+}
+
+/// Updates the driver (about every millisecond) until `done` or `seconds` pass; returns `done()`.
+bool update_until(PreviewDriver& driver, const std::function<bool()>& done, double seconds) {
+    const auto t0 = clock_type::now();
+    while (!done() && seconds_since(t0) < seconds) {
+        driver.update();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return done();
+}
+
+TEST(PreviewDriver, AccumulationPausesResumesAndTakesNewStopRulesWithoutStartingAgain) {
+    JobBuilder b = lit_scene(96, 72);
+    b.job.options.caustic_num_photons = 5000;
+    b.job.options.integrator = IntegratorKind::progressive;
+    b.job.options.passes = 0;  // until paused
+    b.job.options.target_error = 0.0;
+    PreviewDriver driver;
+    driver.request(b.build());
+    const SessionProgress& a = driver.accumulation();
+    ASSERT_TRUE(update_until(driver, [&] { return a.passes_done >= 4; }, 20.0 * slowdown));
+    EXPECT_TRUE(driver.first_full_pass_done() && driver.maps_final() && driver.busy());
+    EXPECT_FALSE(driver.finished());
+
+    driver.pause();
+    ASSERT_TRUE(update_until(driver, [&] { return !driver.busy(); }, 5.0 * slowdown));
+    EXPECT_TRUE(driver.paused());
+    const int paused_at = a.passes_done;
+    const std::vector<glm::vec3> shown = driver.image().pixels;
+    update_until(driver, [] { return false; }, 0.3);
+    EXPECT_EQ(a.passes_done, paused_at);
+    EXPECT_EQ(driver.image().pixels, shown);
+
+    driver.resume();
+    int lowest = paused_at;
+    ASSERT_TRUE(update_until(driver, [&] {
+        lowest = std::min(lowest, a.passes_done);
+        return a.passes_done >= paused_at + 2;
+    }, 20.0 * slowdown));
+    EXPECT_EQ(lowest, paused_at);
+
+    // A pass limit below what is done stops at once; a higher one continues to it.
+    driver.set_stop_rules({a.passes_done, 0.0, 0.0});
+    ASSERT_TRUE(update_until(driver, [&] { return driver.finished(); }, 5.0 * slowdown));
+    const int stopped_at = a.passes_done;
+    EXPECT_EQ(a.stopped_by, "passes");
+    driver.set_stop_rules({stopped_at + 2, 0.0, 0.0});
+    ASSERT_TRUE(update_until(driver, [&] { return driver.finished() && a.passes_done == stopped_at + 2; },
+                             20.0 * slowdown));
+    EXPECT_EQ(driver.job().options.passes, stopped_at + 2);
+    EXPECT_EQ(driver.restarts(), 1u);  // one render started; the rest resumed it
+    const RenderSession::StageCounters counters = driver.session().stage_counters();
+    EXPECT_EQ(counters.scene_builds, 1);
+    EXPECT_EQ(counters.photon_passes, 1);  // the first pass's photons; later passes are fresh but not a stage
+    EXPECT_FALSE(driver.take_error().has_value());
+}
+
+TEST(PreviewDriver, ARequestWhilePausedIsRenderedAndEndsThePause) {
+    JobBuilder b = lit_scene(96, 72);
+    b.job.options.caustic_num_photons = 5000;
+    b.job.options.integrator = IntegratorKind::progressive;
+    b.job.options.passes = 0;
+    RenderJob job = b.build();
+    PreviewDriver driver;
+    driver.request(job);
+    ASSERT_TRUE(update_until(driver, [&] { return driver.accumulation().passes_done >= 2; }, 20.0 * slowdown));
+    driver.pause();
+    ASSERT_TRUE(update_until(driver, [&] { return !driver.busy(); }, 5.0 * slowdown));
+    job.camera.eye.x += 0.1;
+    driver.request(job);
+    ASSERT_TRUE(update_until(driver, [&] { return driver.restarts() == 2 && driver.accumulation().passes_done >= 1; },
+                             20.0 * slowdown));
+    EXPECT_FALSE(driver.paused());
+    EXPECT_EQ(driver.job().camera.eye.x, job.camera.eye.x);
+    EXPECT_EQ(driver.session().stage_counters().photon_passes, 1);  // the camera keeps the photons
 }
 
 TEST(PreviewDriver, ARenderErrorIsReportedOnceAndTheDriverGoesOn) {

@@ -10,6 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
+#include <map>
+
 namespace caustica::ui {
 namespace {
 
@@ -103,7 +107,9 @@ TEST(ViewModel, SwitchingIntegratorReshootsWithoutRebuildingAndSurvivesAReload) 
     CausticKnobs k = m.model.knobs();
     k.integrator = IntegratorKind::progressive;
     m.model.set_knobs(k);
+    m.model.set_stop_rules({2, 0.0, 0.0});  // the preview refines without end unless told
     ASSERT_TRUE(run_until_finished(m.model));
+    EXPECT_EQ(m.model.driver().accumulation().passes_done, 2);
     const auto after = m.model.stage_counters();
     EXPECT_EQ(after.photon_passes, before.photon_passes + 1);
     EXPECT_EQ(after.scene_builds, before.scene_builds);
@@ -206,7 +212,7 @@ TEST(ViewModel, SettingsThatFailToRenderAreTakenBack) {
     // kd + ks > 1 on a mirror only matters once photons are shot, and only to the progressive
     // integrator, which refuses a surface that makes energy (the classic one, B4, absorbs the rest
     // of its luma odds and renders it).
-    LoadedModel m(caustic_box_text(0, "gr.option('--integrator progressive')\n"
+    LoadedModel m(caustic_box_text(0, "gr.option('--integrator progressive --passes 2')\n"
                                       "hot = gr.material({0.6, 0.6, 0.6}, {0.8, 0.8, 0.8}, 10)\n"
                                       "hot:set_reflective()\n"
                                       "post:set_material(hot)\n"));
@@ -283,6 +289,151 @@ TEST(ViewModel, ResolutionScaleAndThreadsRenderAgainOnly) {
     EXPECT_EQ(m.model.driver().job().options.threads, 1);
     EXPECT_EQ(m.model.stage_counters().photon_passes, before.photon_passes);
     EXPECT_EQ(m.model.stage_counters().scene_builds, before.scene_builds);
+}
+
+/// The test scene under the progressive integrator with few photons: passes of a few milliseconds.
+std::string progressive_box() { return caustic_box_text(20000, "gr.option('--integrator progressive')\n"); }
+
+/// Runs until everything asked is rendering and its accumulation has averaged `passes` passes.
+bool run_until_passes(ViewModel& model, int passes, double seconds = 20.0) {
+    return run_until(model, [&] {
+        return !model.changes_pending() && model.driver().accumulation().passes_done >= passes;
+    }, seconds);
+}
+
+/// A model refining the progressive test scene (no stopping rule).
+struct RefiningModel {
+    TempFolder folder;
+    std::string scene;
+    ViewModel model;
+
+    explicit RefiningModel(ModelConfig config = test_config()) : model(std::move(config)) {
+        scene = folder.write("scene.lua", progressive_box());
+        model.open(scene);
+        EXPECT_TRUE(run_until_passes(model, 1)) << model.error();
+    }
+};
+
+TEST(ViewModel, ProgressivePreviewRefinesUntilPausedAndResumesFromItsPasses) {
+    RefiningModel m;
+    const PreviewDriver& driver = m.model.driver();
+    EXPECT_EQ(driver.job().options.passes, 0);  // no rule given: no limit
+    EXPECT_TRUE(driver.job().options.accumulates());
+    const std::uint64_t restarts = driver.restarts();
+    ASSERT_TRUE(run_until_passes(m.model, 4));  // refines by itself, with no request
+    EXPECT_EQ(driver.restarts(), restarts);
+    EXPECT_FALSE(driver.finished());
+    const SessionProgress& a = driver.accumulation();
+    EXPECT_GE(a.photons_emitted, 4 * 20000LL);
+    EXPECT_EQ(a.samples_per_pixel, a.passes_done);
+    EXPECT_GT(a.radius, 0.0);
+    EXPECT_TRUE(a.error.known);
+
+    m.model.set_paused(true);
+    ASSERT_TRUE(run_until(m.model, [&] { return !driver.busy(); }, 5.0));
+    EXPECT_TRUE(m.model.paused());
+    const int paused_at = driver.accumulation().passes_done;
+    const std::vector<glm::vec3> shown = driver.image().pixels;
+    run_until(m.model, [] { return false; }, 0.3);
+    EXPECT_EQ(driver.accumulation().passes_done, paused_at);
+    EXPECT_EQ(driver.image().pixels, shown);
+
+    const auto counters = m.model.stage_counters();
+    m.model.set_paused(false);
+    int lowest = paused_at;
+    ASSERT_TRUE(run_until(m.model, [&] {
+        lowest = std::min(lowest, driver.accumulation().passes_done);
+        return driver.accumulation().passes_done >= paused_at + 2;
+    }, 20.0));
+    EXPECT_EQ(lowest, paused_at);  // continued, never from 0
+    EXPECT_EQ(driver.restarts(), restarts);
+    EXPECT_EQ(m.model.stage_counters().photon_passes, counters.photon_passes);
+    EXPECT_EQ(m.model.stage_counters().scene_builds, counters.scene_builds);
+}
+
+TEST(ViewModel, ProgressiveChangesRestartOnlyWhatTheyInvalidate) {
+    RefiningModel m;
+    const PreviewDriver& driver = m.model.driver();
+    ASSERT_TRUE(run_until_passes(m.model, 3));
+    const auto before = m.model.stage_counters();
+    // Each change starts the accumulation again (the image changes): a new render from pass 0.
+    const auto change_and_refine = [&](const std::function<void()>& change) {
+        const std::uint64_t restarts = driver.restarts();
+        change();
+        ASSERT_TRUE(run_until(m.model, [&] { return driver.restarts() > restarts; }, 5.0));
+        EXPECT_EQ(driver.accumulation().passes_done, 0);
+        ASSERT_TRUE(run_until_passes(m.model, 2));
+    };
+    change_and_refine([&] { m.model.orbit(10.0, 0.0); });  // camera: the eye side only
+    CausticKnobs k = m.model.knobs();
+    k.num_neighbours = 40;
+    change_and_refine([&] { m.model.set_knobs(k); });  // N: the radius sequence
+    k.max_dist = 0.05;
+    change_and_refine([&] { m.model.set_knobs(k); });  // max distance: the radius sequence
+    auto after = m.model.stage_counters();
+    EXPECT_EQ(after.scene_builds, before.scene_builds);
+    EXPECT_EQ(after.photon_passes, before.photon_passes);  // the first pass's photons are kept
+    k.num_photons = 30000;
+    change_and_refine([&] { m.model.set_knobs(k); });  // photons: the photon passes
+    after = m.model.stage_counters();
+    EXPECT_EQ(after.scene_builds, before.scene_builds);
+    EXPECT_EQ(after.photon_passes, before.photon_passes + 1);
+    EXPECT_EQ(driver.job().options.caustic_num_photons, 30000);
+}
+
+TEST(ViewModel, PassLimitStopsThePreviewAndRaisingItContinues) {
+    ModelConfig config = test_config();
+    config.option_tokens.insert(config.option_tokens.end(), {"--passes", "3"});
+    TempFolder folder;
+    ViewModel model(config);
+    model.open(folder.write("scene.lua", progressive_box()));
+    ASSERT_TRUE(run_until_finished(model, 20.0)) << model.error();
+    const PreviewDriver& driver = model.driver();
+    EXPECT_EQ(driver.accumulation().passes_done, 3);
+    EXPECT_EQ(driver.accumulation().stopped_by, "passes");
+    EXPECT_EQ(model.stop_rules(), (StopRules{3, 0.0, 0.0}));
+    const std::uint64_t restarts = driver.restarts();
+    const auto counters = model.stage_counters();
+    model.set_stop_rules({5, 0.0, 0.0});  // continues the same accumulation
+    int lowest = 3;
+    ASSERT_TRUE(run_until(model, [&] {
+        lowest = std::min(lowest, driver.accumulation().passes_done);
+        return driver.finished() && driver.accumulation().passes_done == 5;
+    }, 20.0));
+    EXPECT_EQ(lowest, 3);
+    EXPECT_EQ(driver.restarts(), restarts);
+    EXPECT_EQ(model.stage_counters().photon_passes, counters.photon_passes);
+    EXPECT_EQ(driver.job().options.passes, 5);
+    // The person's rules are the progressive integrator's: a classic job keeps the command line's.
+    CausticKnobs k = model.knobs();
+    k.integrator = IntegratorKind::classic;
+    model.set_knobs(k);
+    EXPECT_EQ(model.current_job().options.passes, 3);
+}
+
+TEST(ViewModel, SaveNamesThePassesOfTheAccumulation) {
+    RefiningModel m;
+    ASSERT_TRUE(run_until_passes(m.model, 3));
+    m.model.set_paused(true);
+    ASSERT_TRUE(run_until(m.model, [&] { return !m.model.driver().busy(); }, 5.0));
+    const SessionProgress a = m.model.driver().accumulation();
+    const std::string path = m.folder.file("refined.png");
+    const SaveResult r = m.model.save(path, false);
+    ASSERT_EQ(r.outcome, SaveOutcome::written) << r.message;
+    EXPECT_NE(r.message.find(std::to_string(a.passes_done) + " passes"), std::string::npos) << r.message;
+    std::map<std::string, std::string> text;
+    for (const auto& [key, value] : read_png(path).text) text[key] = value;
+    EXPECT_EQ(text["caustica:integrator"], "progressive");
+    EXPECT_EQ(text["caustica:passes"], std::to_string(a.passes_done));
+    EXPECT_EQ(text["caustica:samples-per-pixel"], std::to_string(a.passes_done));
+    EXPECT_EQ(text["caustica:pass-limit"], "none");
+    EXPECT_EQ(text["caustica:photons-emitted"], std::to_string(a.photons_emitted));
+    EXPECT_EQ(text["caustica:state"], "paused");
+    const std::string& error = text["caustica:estimated-error"];
+    if (a.error.known)  // the relative error as a number (it may exceed 1 early on), then its parts
+        EXPECT_NEAR(std::strtod(error.c_str(), nullptr), a.error.relative, 1e-3 * a.error.relative) << error;
+    else
+        EXPECT_EQ(error.rfind("unknown", 0), 0u) << error;
 }
 
 TEST(ViewArguments, ParsesTheViewCommandLine) {

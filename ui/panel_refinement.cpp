@@ -1,0 +1,101 @@
+// Progressive refinement in the panels: the one-line summary of the accumulation (passes,
+// photons, samples per pixel, estimated error, radius), what the render is doing, the photon
+// stage's progress bar, and the Pause/Resume button with the stopping rules.
+#include "ui/panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace caustica::ui {
+
+std::string short_count(double n) {
+    static const struct {
+        double scale;
+        const char* suffix;
+    } units[] = {{1e9, "G"}, {1e6, "M"}, {1e3, "k"}};
+    char text[32];
+    for (const auto& u : units)
+        if (n >= u.scale) {
+            std::snprintf(text, sizeof text, "%.3g%s", n / u.scale, u.suffix);
+            return text;
+        }
+    std::snprintf(text, sizeof text, "%.0f", n);
+    return text;
+}
+
+namespace {
+
+void hint(const char* text) {
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+}  // namespace
+
+std::string refinement_summary(const SessionProgress& a) {
+    char text[256];
+    const std::string passes = a.pass_limit > 0 ? std::to_string(a.passes_done) + " of " + std::to_string(a.pass_limit)
+                                                : std::to_string(a.passes_done);
+    char error[96];
+    if (a.error.known)
+        std::snprintf(error, sizeof error, "est. error %.1f%% (noise %.1f%%, bias %.1f%%)", 100.0 * a.error.relative,
+                      100.0 * a.error.noise, 100.0 * a.error.bias);
+    else
+        std::snprintf(error, sizeof error, "est. error after 2 passes");
+    std::snprintf(text, sizeof text, "%s %s  |  %s photons  |  %.0f spp  |  %s  |  radius %.3g", passes.c_str(),
+                  a.passes_done == 1 && a.pass_limit == 0 ? "pass" : "passes", short_count(a.photons_emitted).c_str(),
+                  a.samples_per_pixel, error, a.radius);
+    return text;
+}
+
+std::string render_state(const ViewModel& model) {
+    const PreviewDriver& driver = model.driver();
+    const SessionProgress& p = driver.progress();
+    if (model.paused()) return driver.busy() ? "pausing" : "paused";
+    if (p.running) {
+        if (p.stage == "progressive passes") return "refining";
+        return p.stage.empty() ? "starting" : p.stage;
+    }
+    if (p.finished) {
+        const SessionProgress& a = driver.accumulation();
+        return a.accumulating && !a.stopped_by.empty() ? "stopped by " + stop_reason(a.stopped_by) : "done";
+    }
+    return p.cancelled ? "stopped" : "failed";
+}
+
+void photon_progress_bar(const SessionProgress& p, float width) {
+    if (!p.running || p.stage != "shooting photons" || p.photons_total <= 0) return;
+    const double done = static_cast<double>(p.photons_done), total = static_cast<double>(p.photons_total);
+    const std::string caption = "photons " + short_count(done) + " of " + short_count(total);
+    ImGui::ProgressBar(static_cast<float>(std::min(1.0, done / total)), ImVec2(width, 0.0f), caption.c_str());
+}
+
+void draw_refinement_controls(ViewModel& model) {
+    const PreviewDriver& driver = model.driver();
+    const bool paused = model.paused();
+    ImGui::BeginDisabled(!paused && !driver.busy());
+    if (ImGui::Button(paused ? "Resume (Space)" : "Pause (Space)", ImVec2(120.0f, 0.0f))) model.set_paused(!paused);
+    ImGui::EndDisabled();
+    hint("Pause keeps the passes gathered so far; Resume continues from them. Moving the camera or "
+         "changing a knob while paused renders the change.");
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", render_state(model).c_str());
+
+    // Applied on Enter: each change continues the accumulation under the new rules.
+    StopRules rules = model.stop_rules();
+    const ImGuiInputTextFlags on_enter = ImGuiInputTextFlags_EnterReturnsTrue;
+    if (ImGui::InputInt("pass limit (0=none)", &rules.passes, 1, 10, on_enter)) rules.passes = std::max(0, rules.passes);
+    hint("stop after this many passes (0 = no limit); Enter applies. Never restarts the accumulation");
+    ImGui::InputDouble("time limit (0=none)", &rules.time_limit, 1.0, 10.0, "%.1f s", on_enter);
+    hint("seconds of rendering after which no pass starts (0 = no limit); Enter applies");
+    double percent = 100.0 * rules.target_error;
+    if (ImGui::InputDouble("target error (0=none)", &percent, 0.5, 5.0, "%.2f %%", on_enter))
+        rules.target_error = percent / 100.0;
+    hint("stop once the estimated relative error over the caustics is below this (0 = none); Enter applies");
+    rules.time_limit = std::max(0.0, rules.time_limit);
+    rules.target_error = std::clamp(rules.target_error, 0.0, 10.0);
+    model.set_stop_rules(rules);
+}
+
+}  // namespace caustica::ui
