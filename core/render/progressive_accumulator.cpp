@@ -57,7 +57,7 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
         std::nth_element(lit.begin(), percentile, lit.end());
         threshold = region_fraction * *percentile;
     }
-    double noise2 = 0.0, bias2 = 0.0, bias_noise2 = 0.0, shown = 0.0;
+    double noise2 = 0.0, bias2 = 0.0, shown = 0.0;
     std::size_t region = 0;
     for (const Pixel& p : pixels_) {
         if (!(p.photon >= threshold) || p.count < 2) continue;
@@ -72,16 +72,18 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
         if (value - 2.0 * std::sqrt(noise_var) >= 1.0) continue;
         noise2 += noise_var;
         // The squared mean probe is the squared bias plus the probe's own variance (a difference
-        // of two noisy estimates: about twice the image's noise): the latter is subtracted over
-        // the region below. Clamping here to the noisy corrected value would turn that noise
-        // into bias.
-        bias2 += static_cast<double>(p.bias) * p.bias;
-        bias_noise2 += bias_noise_var;
+        // of two noisy estimates: about twice the image's noise), which is subtracted: summed over
+        // the region this is unbiased where the bias is small. The shown value cannot move by more
+        // than to 0 (a positive bias) or to 1 (a negative one): near focal spots the probe is
+        // huge and that bound is what counts. (Clamping to the noisy corrected value instead would
+        // turn the probe's noise into bias everywhere.)
+        const double shown_value = std::clamp(value, 0.0, 1.0);
+        const double bound = p.bias > 0.0f ? shown_value : 1.0 - shown_value;
+        bias2 += std::min(static_cast<double>(p.bias) * p.bias - bias_noise_var, bound * bound);
     }
     if (region == 0 || !(shown > 0.0)) return e;
     const double mean = shown / static_cast<double>(region);
-    // The squared bias probe carries its own noise: subtract its expected value over the region.
-    const double bias_only = std::max(0.0, bias2 - bias_noise2);
+    const double bias_only = std::max(0.0, bias2);
     e.known = true;
     e.region_pixels = region;
     e.noise = std::sqrt(noise2 / static_cast<double>(region)) / mean;
