@@ -1,8 +1,11 @@
 // The photon pass: photons per second on 1 and 2 threads, and projection maps on/off/auto on a
 // dense scene (a closed room: every photon meets something), a sparse one (a few objects in open
 // space: photons that miss escape at once) and an enclosed one (the light inside a glass shell:
-// the map cannot pay), after the seed's tables (3.2x and 0.7x).
+// the map cannot pay), after the seed's tables (3.2x and 0.7x). photon_pass/default_scene: the
+// demo scene scenes/default.lua (issue 11's throughput target: traced photons per second on 2
+// threads, the "traced_per_s" counter), 10^7 directions as its --quality preview shoots.
 //   build/bench_photons --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include "core/lua/scene_loader.h"
 #include "core/photons/caustic_stage.h"
 #include "core/photons/photon_tracer.h"
 #include "core/scene/scene_flatten.h"
@@ -12,6 +15,7 @@
 #include <tbb/task_arena.h>
 
 #include <memory>
+#include <string>
 
 namespace {
 
@@ -87,6 +91,10 @@ struct Fixture {
 
 const Fixture& fixture(int scene) {
     static const Fixture dense(dense_scene()), sparse(sparse_scene()), enclosed(enclosed_scene());
+    if (scene == 3) {
+        static const Fixture demo(load_scene_script(std::string(CAUSTICA_SOURCE_DIR) + "/scenes/default.lua").renders.at(0));
+        return demo;
+    }
     return scene == 0 ? dense : scene == 1 ? sparse : enclosed;
 }
 
@@ -94,7 +102,7 @@ void photon_pass(benchmark::State& state, int scene, ProjectionMapMode mode) {
     const Fixture& f = fixture(scene);
     const int threads = static_cast<int>(state.range(0));
     PhotonPassSettings settings;
-    settings.photons_per_light = 1'000'000;
+    settings.photons_per_light = scene == 3 ? 10'000'000 : 1'000'000;
     settings.projection_map = mode;
     tbb::task_arena arena(threads);
     PhotonPassResult result;
@@ -104,6 +112,10 @@ void photon_pass(benchmark::State& state, int scene, ProjectionMapMode mode) {
     state.counters["stored"] = static_cast<double>(result.lights[0].stored);
     state.counters["occupied"] = result.lights[0].occupied_fraction;
     state.counters["map_used"] = result.lights[0].projection_map_used;
+    // Photons traced (the directions the projection map lets through) per second of wall time.
+    state.counters["traced_per_s"] =
+        benchmark::Counter(static_cast<double>(result.lights[0].traced) * static_cast<double>(state.iterations()),
+                           benchmark::Counter::kIsRate);
 }
 
 const int registered = [] {
@@ -119,6 +131,12 @@ const int registered = [] {
                 ->UseRealTime()
                 ->Unit(benchmark::kMillisecond);
         }
+    benchmark::RegisterBenchmark("photon_pass/default_scene/map:auto", photon_pass, 3, ProjectionMapMode::automatic)
+        ->Arg(1)
+        ->Arg(2)
+        ->ArgName("threads")
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
     return 0;
 }();
 

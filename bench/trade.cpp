@@ -9,6 +9,9 @@
 // all cores: see docs/ACCURACY.md.
 #include "bench/trade_harness.h"
 #include "bench/trade_plot.h"
+#include "bench/trade_progressive.h"
+#include "bench/trade_reference.h"
+#include "core/io/png_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,6 +37,12 @@ struct Settings {
     bool quick = false;
     bool make_references = false;
     bool skip_stale = false;
+    bool progressive = false;          ///< error-against-time curves of accumulating renders
+    bool pass_time = false;            ///< the time of a progressive pass of the default scene at 1280 x 720
+    bool progressive_references = false;  ///< against the pixel-averaged references (else the stored ones)
+    bool classic = false;              ///< with --progressive: the single k-nearest pass beside it
+    std::vector<std::pair<std::string, ProgressiveRun>> tuned;  ///< --tuned SCENE:N:PHOTONS:MAXDIST, more curves
+    ProgressiveRun run;
     int repeat = 0;  ///< 0: 1 with --quick, else 3
     std::string out_dir;
     std::vector<std::string> scenes;  ///< empty: all
@@ -51,6 +60,30 @@ Settings parse_arguments(int argc, char** argv) {
         if (a == "--quick") s.quick = true;
         else if (a == "--make-references") s.make_references = true;
         else if (a == "--skip-stale") s.skip_stale = true;
+        else if (a == "--progressive") s.progressive = true;
+        else if (a == "--pass-time") s.pass_time = true;
+        else if (a == "--averaged-references") s.progressive_references = true;
+        else if (a == "--classic") s.classic = true;
+        else if (a == "--tuned") {
+            // SCENE:N:PHOTONS:MAXDIST, e.g. default:4:1e7:0.15 (the passes and seconds as given)
+            std::string text = value();
+            std::vector<std::string> parts;
+            for (std::size_t start = 0, colon; start <= text.size(); start = colon + 1) {
+                colon = std::min(text.find(':', start), text.size());
+                parts.push_back(text.substr(start, colon - start));
+            }
+            if (parts.size() != 4) throw std::runtime_error("--tuned expects SCENE:N:PHOTONS:MAXDIST");
+            ProgressiveRun run;
+            run.neighbours = std::stoi(parts[1]);
+            run.photons = static_cast<long long>(std::stod(parts[2]));
+            run.max_dist = std::stod(parts[3]);
+            s.tuned.emplace_back(parts[0], run);
+        }
+        else if (a == "--passes") s.run.max_passes = std::stoi(value());
+        else if (a == "--seconds") s.run.max_seconds = std::stod(value());
+        else if (a == "--photons") s.run.photons = static_cast<long long>(std::stod(value()));
+        else if (a == "--neighbours") s.run.neighbours = std::stoi(value());
+        else if (a == "--max-dist") s.run.max_dist = std::stod(value());
         else if (a == "--out") s.out_dir = value();
         else if (a == "--repeat") s.repeat = std::stoi(value());
         else if (a == "--scenes") {
@@ -61,7 +94,10 @@ Settings parse_arguments(int argc, char** argv) {
             }
         } else if (a == "--help" || a == "-h") {
             std::printf("usage: trade [--quick] [--repeat K] [--scenes virtual_light,default,glass_of_liquid] "
-                        "[--skip-stale] --out DIR\n       trade --make-references [--scenes ...]\n");
+                        "[--skip-stale] --out DIR\n       trade --make-references [--progressive] [--scenes ...]\n"
+                        "       trade --progressive [--averaged-references] [--classic] [--tuned SCENE:N:PHOTONS:MAXDIST]... [--passes P] [--seconds S] "
+                        "[--photons X] [--neighbours N] [--max-dist D] [--scenes ...] --out DIR\n"
+                        "       trade --pass-time [--passes P]   (a progressive pass of default.lua at 1280x720)\n");
             std::exit(0);
         } else throw std::runtime_error("unknown argument '" + a + "' (see --help)");
     }
@@ -70,25 +106,13 @@ Settings parse_arguments(int argc, char** argv) {
             std::none_of(recipes.begin(), recipes.end(), [&](const ReferenceRecipe& r) { return name == r.name; }))
             throw std::runtime_error("--scenes: unknown scene '" + name + "'");
     if (s.repeat <= 0) s.repeat = s.quick ? 1 : 3;
-    if (!s.make_references && s.out_dir.empty()) throw std::runtime_error("--out DIR is required");
+    if (!s.make_references && !s.pass_time && s.out_dir.empty()) throw std::runtime_error("--out DIR is required");
     s.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     return s;
 }
 
 bool wanted(const Settings& s, const std::string& name) {
     return s.scenes.empty() || std::find(s.scenes.begin(), s.scenes.end(), name) != s.scenes.end();
-}
-
-/// Least-squares slope of log10(y) against log10(x).
-double log_log_slope(const std::vector<std::pair<double, double>>& points) {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    const double n = static_cast<double>(points.size());
-    for (const auto& [x, y] : points) {
-        const double lx = std::log10(x), ly = std::log10(y);
-        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-    }
-    const double d = n * sxx - sx * sx;
-    return d > 0.0 ? (n * sxy - sx * sy) / d : 0.0;
 }
 
 std::string format_count(double v) {
@@ -231,17 +255,166 @@ void write_outputs(const Settings& settings, const std::vector<TradeScene>& scen
     }
 }
 
+/// Error against time of accumulating renders (--progressive): one accumulation per scene,
+/// checkpointed at 1, 2, 4, ... passes; writes DIR/progressive.csv and DIR/progressive.png.
+int run_progressive(const Settings& settings) {
+    std::vector<TradeScene> scenes;
+    bool unusable = false;
+    if (wanted(settings, "virtual_light")) {
+        TradeScene scene = virtual_light(settings.threads);
+        // A jittered accumulation converges to the pixel-averaged image, not the pixel centres' (the
+        // blocker's shadow edge crosses the annulus); 1024 jittered passes of direct light, a few seconds.
+        const Image centres = scene.reference;
+        scene.reference = pixel_averaged_virtual_light(scene, 1024, settings.threads);
+        scene.reference_kind = "analytic (pixel-averaged)";
+        trade::write_pfm(settings.out_dir + "/virtual_light_centres.pfm", centres);
+        trade::write_pfm(settings.out_dir + "/virtual_light_averaged.pfm", scene.reference);
+        std::printf("virtual_light: pixel-averaged against pixel-centre analytic reference: %.5f relative RMSE\n",
+                    compare(scene.reference, centres, scene.region).rel_rmse);
+        scenes.push_back(std::move(scene));
+    }
+    for (const ReferenceRecipe& recipe : recipes) {
+        if (!wanted(settings, recipe.name)) continue;
+        TradeScene scene;
+        bool usable = false;
+        if (settings.progressive_references) {
+            for (const ProgressiveRecipe& p : progressive_recipes)
+                if (std::string(p.name) == recipe.name) usable = progressive_lua_scene(p, settings.threads, scene);
+        } else {
+            usable = lua_scene(recipe, settings.threads, scene);
+        }
+        if (usable) scenes.push_back(std::move(scene));
+        else unusable = true;
+    }
+    if (unusable && !settings.skip_stale) {
+        std::fprintf(stderr, "trade: stopping (--skip-stale measures the other scenes)\n");
+        return 3;
+    }
+    std::ofstream csv(settings.out_dir + "/progressive.csv");
+    csv << "scene,width,height,photons_per_pass,neighbours,max_dist,passes,seconds,rel_rmse_caustic,rel_bias_caustic,"
+           "rmse,estimate,estimate_noise,estimate_bias,first_radius,radius,photons_emitted,reference\n";
+    std::vector<trade::Panel> panels;
+    for (const TradeScene& s : scenes) {
+        panels.push_back({s.name + " (" + std::to_string(s.job.width) + "x" + std::to_string(s.job.height) + ", " +
+                              (s.name == "virtual_light" ? "analytic" : "pixel-averaged") + " reference)",
+                          "seconds", "relative RMSE over the caustic region", {}});
+        trade::Panel& errors = panels.back();
+        write_png_atomic(settings.out_dir + "/reference-" + s.name + ".png", s.reference, PixelEncoding::clamped_linear);
+        // One accumulation: a row per checkpoint, a curve (and for the first, the estimate's curve).
+        auto measure = [&](const ProgressiveRun& given, int colour) {
+            const Options& o = s.job.options;
+            ProgressiveRun run = given;
+            run.max_passes = settings.run.max_passes;  // every curve stops by the same rules
+            run.max_seconds = settings.run.max_seconds;
+            if (run.photons <= 0 && o.caustic_num_photons <= 0) run.photons = 100'000;  // the virtual light has none
+            if (run.neighbours <= 0 && s.name == "virtual_light") run.neighbours = 50;
+            run.png_path = settings.out_dir + "/progressive-" + s.name + (colour > 0 ? "-" + std::to_string(colour) : "") + ".png";
+            const long long photons = run.photons > 0 ? run.photons : o.caustic_num_photons;
+            const int n = run.neighbours > 0 ? run.neighbours : o.caustic_num_neighbours;
+            const double max_dist = run.max_dist > 0.0 ? run.max_dist : o.effective_caustic_max_dist();
+            std::printf("%s: %dx%d, %lld photons a pass, N %d, max distance %g, reference %s, caustic region %zu pixels\n",
+                        s.name.c_str(), s.job.width, s.job.height, photons, n, max_dist, s.reference_kind.c_str(),
+                        s.region.size());
+            const std::vector<ProgressivePoint> points = progressive_curve(s, run);
+            std::vector<std::pair<double, double>> truth, estimate, fit;
+            for (const ProgressivePoint& p : points) {
+                char line[512];
+                std::snprintf(line, sizeof line, "%s,%d,%d,%lld,%d,%g,%d,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%lld,%s\n",
+                              s.name.c_str(), s.job.width, s.job.height, photons, n, max_dist, p.passes, p.seconds,
+                              p.error.rel_rmse, p.error.rel_bias, p.error.rmse, p.estimate, p.noise, p.bias, p.first_radius,
+                              p.radius, p.photons_emitted, s.reference_kind.c_str());
+                csv << line;
+                truth.emplace_back(p.seconds, p.error.rel_rmse);
+                if (p.estimate > 0.0) estimate.emplace_back(p.seconds, p.estimate);
+                // The slope is fitted over the last two decades of time (all points when shorter).
+                if (p.seconds >= points.back().seconds / 100.0) fit.emplace_back(p.seconds, p.error.rel_rmse);
+            }
+            const double slope = log_log_slope(fit);
+            double ratio_min = 1e30, ratio_max = 0.0;
+            for (const ProgressivePoint& p : points)
+                if (p.estimate > 0.0 && p.error.rel_rmse > 0.0) {
+                    ratio_min = std::min(ratio_min, p.estimate / p.error.rel_rmse);
+                    ratio_max = std::max(ratio_max, p.estimate / p.error.rel_rmse);
+                }
+            std::printf("progressive %-16s slope %+.3f in time over %.2f decades (%.3f .. %.3f s); estimate / true %.2f .. %.2f\n",
+                        s.name.c_str(), slope, std::log10(fit.back().first / fit.front().first), fit.front().first,
+                        fit.back().first, ratio_min, ratio_max);
+            csv << "# " << s.name << " slope of log10(rel_rmse_caustic) on log10(seconds) over the last two decades: "
+                << slope << "\n";
+            errors.curves.push_back({"progressive, " + format_count(static_cast<double>(photons)) + " photons a pass, N " +
+                                         std::to_string(n) + (max_dist != default_max_dist ? ", max " + format_count(max_dist) : "") +
+                                         " (slope " + format_count(std::round(slope * 100.0) / 100.0) + ")",
+                                     truth, colour});
+            if (colour == 0) errors.curves.push_back({"the renderer's estimate", estimate, 0, true});
+        };
+        measure(settings.run, 0);
+        int colour = 4;
+        for (const auto& [scene_name, run] : settings.tuned)
+            if (scene_name == s.name) measure(run, colour++);
+        if (settings.classic && s.name != "virtual_light") {
+            // The single k-nearest pass on the same reference: pixel-averaged as well, by 3 x 3
+            // anti-aliasing of every pixel (threshold 0), at the photon counts of the sweep.
+            TradeScene classic = s;
+            classic.job.options.disable_aa = false;
+            classic.job.options.aa_grid = 3;
+            classic.job.options.aa_threshold = 0.0;
+            const std::vector<long long> counts = {1'000'000, 3'000'000, 10'000'000, 30'000'000, 100'000'000};
+            const std::vector<Row> rows = sweep(classic, counts, {8, 25}, {default_max_dist}, 1);
+            for (int neighbours : {8, 25}) {
+                trade::Curve curve{"one k-nearest pass, 3x3 AA, N " + std::to_string(neighbours), {},
+                                   neighbours == 8 ? 1 : 3};
+                for (const Row& r : rows)
+                    if (r.neighbours == neighbours) {
+                        curve.points.emplace_back(r.photon_seconds + r.render_seconds, r.error.rel_rmse);
+                        char line[256];
+                        std::snprintf(line, sizeof line, "%s,%d,%d,%lld,%d,%g,classic,%.5f,%.6g,%.6g,%.6g,,,,,,%lld,%s\n",
+                                      s.name.c_str(), s.job.width, s.job.height, r.photons, r.neighbours, r.max_dist,
+                                      r.photon_seconds + r.render_seconds, r.error.rel_rmse, r.error.rel_bias,
+                                      r.error.rmse, r.photons, s.reference_kind.c_str());
+                        csv << line;
+                    }
+                errors.curves.push_back(curve);
+            }
+        }
+    }
+    csv.close();
+    std::printf("wrote %s/progressive.csv\n", settings.out_dir.c_str());
+    if (!trade::gnuplot_available()) return 0;
+    trade::Figure figure;
+    figure.png_path = settings.out_dir + "/progressive.png";
+    figure.title = "Progressive photon mapping: caustic error against time (" + std::to_string(settings.threads) +
+                   " threads)";
+    figure.columns = static_cast<int>(panels.size());
+    figure.width = 620 * figure.columns;
+    figure.height = 620;
+    figure.panels = panels;
+    const std::string problem = trade::plot_figure(figure);
+    if (problem.empty()) std::printf("wrote %s\n", figure.png_path.c_str());
+    else std::printf("plot not drawn: %s\n", problem.c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     try {
         const Settings settings = parse_arguments(argc, argv);
+        if (settings.pass_time) {
+            pass_timing("default", 1280, 720, settings.run.max_passes, settings.threads);
+            return 0;
+        }
+        if (settings.make_references && settings.progressive) {
+            for (const ProgressiveRecipe& recipe : progressive_recipes)
+                if (wanted(settings, recipe.name)) make_progressive_reference(recipe, settings.threads);
+            return 0;
+        }
         if (settings.make_references) {
             for (const ReferenceRecipe& recipe : recipes)
                 if (wanted(settings, recipe.name)) make_reference(recipe, settings.threads);
             return 0;
         }
         fs::create_directories(settings.out_dir);
+        if (settings.progressive) return run_progressive(settings);
         std::printf("trade: %s sweep, %d threads, --reproducible, caustics only, one sample per pixel\n",
                     settings.quick ? "quick" : "full", settings.threads);
         std::vector<TradeScene> scenes;
@@ -273,6 +446,21 @@ int main(int argc, char** argv) {
         }
         write_outputs(settings, scenes, rows, presets, max_dists, ns);
         std::printf("wrote %s/trade.csv\n", settings.out_dir.c_str());
+        if (settings.quick && !scenes.empty() && scenes.front().name == "virtual_light") {
+            // A tiny progressive check (about 0.3 s): 8 accumulated passes must beat one.
+            ProgressiveRun run;
+            run.photons = 100'000;
+            run.neighbours = 50;
+            run.max_passes = 8;
+            TradeScene scene = scenes.front();
+            scene.reference = pixel_averaged_virtual_light(scene, 16, settings.threads);
+            const std::vector<ProgressivePoint> points = progressive_curve(scene, run);
+            if (!(points.back().error.rel_rmse < 0.7 * points.front().error.rel_rmse)) {
+                std::fprintf(stderr, "trade: progressive passes do not converge on the virtual light (%.4f -> %.4f)\n",
+                             points.front().error.rel_rmse, points.back().error.rel_rmse);
+                return 4;
+            }
+        }
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "trade: %s\n", e.what());

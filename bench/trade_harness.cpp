@@ -47,9 +47,8 @@ double median(std::vector<double> v) {
     return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-/// The settings every measured run shares: caustics only, one centred sample, fixed streams, all
-/// cores, and the progressive integrator, whose physics the references (and the analytic virtual
-/// light) follow.
+}  // namespace
+
 void set_caustics_only(Options& o, int threads) {
     o.integrator = IntegratorKind::progressive;
     o.draw_caustics_only = true;
@@ -60,6 +59,8 @@ void set_caustics_only(Options& o, int threads) {
     o.silent = true;
     o.stats = o.timing = o.verbose = false;
 }
+
+namespace {
 
 Timing render(RenderSession& session, const RenderJob& job) {
     session.set_job(job);
@@ -80,13 +81,13 @@ Timing render(RenderSession& session, const RenderJob& job) {
 /// values, so a focal spot of radiance 25 counts as much as one of 1, as it looks.
 glm::vec3 shown(const glm::vec3& p) { return glm::clamp(p, glm::vec3(0.0f), glm::vec3(1.0f)); }
 
+}  // namespace
+
 double pixel_value(const glm::vec3& p) {
     const glm::vec3 s = shown(p);
     return (s.x + s.y + s.z) / 3.0;
 }
 
-/// Pixels whose shown reference caustic value reaches region_fraction of the 99th percentile of
-/// the non-zero values.
 std::vector<std::size_t> caustic_region(const Image& reference) {
     std::vector<double> lit;
     for (const glm::vec3& p : reference.pixels)
@@ -134,20 +135,28 @@ RenderJob load_lua_job(const ReferenceRecipe& recipe, int threads) {
     return job;
 }
 
+namespace {
+
 ReferenceInfo expected_info(const ReferenceRecipe& recipe) {
-    ReferenceInfo info;
-    info.scene_file = recipe.script;
-    info.scene_hash = trade::scene_content_hash(load_lua_job(recipe, 1));
-    info.width = recipe.width;
-    info.height = recipe.height;
-    info.photons = recipe.photons;
-    info.neighbours = recipe.neighbours;
-    info.max_dist = default_max_dist;
-    info.runs = recipe.runs;
-    return info;
+    return recipe_info(recipe.script, load_lua_job(recipe, 1), recipe.photons, recipe.neighbours, default_max_dist,
+                       recipe.runs);
 }
 
 }  // namespace
+
+ReferenceInfo recipe_info(const std::string& script, const RenderJob& job, long long photons, int neighbours,
+                          double max_dist, int runs) {
+    ReferenceInfo info;
+    info.scene_file = script;
+    info.scene_hash = trade::scene_content_hash(job);
+    info.width = job.width;
+    info.height = job.height;
+    info.photons = photons;
+    info.neighbours = neighbours;
+    info.max_dist = max_dist;
+    info.runs = runs;
+    return info;
+}
 
 /// Renders the reference of one Lua scene: the mean of `runs` renders with seeds 1..runs.
 void make_reference(const ReferenceRecipe& recipe, int threads) {

@@ -3,6 +3,7 @@
 // timed and its caustic error measured. bench/trade.cpp drives it and writes the outputs.
 #pragma once
 
+#include "bench/trade_reference.h"
 #include "core/render/image.h"
 #include "core/scene/options.h"
 #include "core/scene/scene_desc.h"
@@ -74,6 +75,28 @@ struct PresetRow {
     double full_render_seconds = 0.0;
     ImageError error;
 };
+
+/// The settings every measured run shares: caustics only, one centred sample (an accumulating run
+/// jitters whatever disable_aa says), fixed streams, `threads` threads, and the progressive
+/// integrator, whose physics the references (and the analytic virtual light) follow.
+void set_caustics_only(Options& options, int threads);
+
+/// A pixel's value as the PNG shows it: each channel clamped to [0, 1], then their mean.
+double pixel_value(const glm::vec3& pixel);
+
+/// Pixels whose shown reference caustic value reaches a tenth of the 99th percentile of the
+/// non-zero values: the caustic region of a Lua scene's reference.
+std::vector<std::size_t> caustic_region(const Image& reference);
+
+/// The error of `image` against `reference`, relative over `region` (see ImageError).
+ImageError compare(const Image& image, const Image& reference, const std::vector<std::size_t>& region);
+
+/// A Lua scene's first render at the recipe's resolution, caustics only (set_caustics_only).
+RenderJob load_lua_job(const ReferenceRecipe& recipe, int threads);
+
+/// What a stored reference of `job` (made from `script`) must say it was made with.
+ReferenceInfo recipe_info(const std::string& script, const RenderJob& job, long long photons, int neighbours,
+                          double max_dist, int runs);
 
 /// Renders and stores the reference of one Lua scene (build/trade --make-references: minutes).
 void make_reference(const ReferenceRecipe& recipe, int threads);

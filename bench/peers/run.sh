@@ -7,6 +7,7 @@
 # explains the scenes, the parameter mapping and how to read the report.
 #
 #   bench/peers/run.sh [--quick | --report]
+#   bench/peers/run.sh --progressive [--quick]
 #
 # Environment: BUILD (build folder, default build/), OUT (default out/peers), THREADS (2),
 # SIZE (512), REPEATS (3: runs of each configuration, the median time is reported), LEVELS
@@ -18,6 +19,15 @@
 # (caustica's --lores, --midres, --hires). --quick: 256 pixels, two levels, one repeat, small
 # references (a smoke run, not a measurement). --report: only rewrite results.md from the
 # measurements already in the output folder.
+#
+# --progressive (issue 11): error against time instead of equal photons. POV-Ray at the LEVELS
+# above (and its reference), caustica's progressive integrator as one curve of accumulated passes
+# (PASSES: --passes of each render, PP_PHOTONS directions a pass (default 3e6, 2e7 for the glass
+# of liquid), PP_NEIGHBOURS (8) for the first radius, jittered samples: no --disable-aa) and its
+# own pixel-averaged reference (PP_REF_PASSES passes of PP_REF_PHOTONS). Each renderer's error is against its own reference (as above) and
+# both against caustica's progressive reference (the "common" column: POV-Ray's bias shows there).
+# Writes progressive.tsv and progressive.md (the two targets: POV-Ray's best error in a third of
+# its time, and half its error at its time).
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
@@ -33,11 +43,20 @@ max_directions=${MAX_DIRECTIONS:-150000000}
 neighbours=${NEIGHBOURS:-100}
 pov_radius=${POV_RADIUS:-0.15}
 scenes=${SCENES:-"glass_sphere ring glass_of_liquid"}
+passes=${PASSES:-"1 2 4 8 16 32 64 128"}
+pp_photons=${PP_PHOTONS:-}
+pp_neighbours=${PP_NEIGHBOURS:-8}
+pp_ref_passes=${PP_REF_PASSES:-256}
+pp_ref_photons=${PP_REF_PHOTONS:-30000000}
 mode=${1:-measure}
+if [[ $mode == --progressive ]]; then
+  [[ ${2:-} == --quick ]] && { size=256 repeats=1 levels="10000 100000" reference=300000 passes="1 4 16" pp_ref_passes=32; }
+  [[ ${2:-} == --quick || -z ${2:-} ]] || { echo "usage: bench/peers/run.sh --progressive [--quick]" >&2; exit 2; }
+fi
 case $mode in
-  measure | --report) ;;
+  measure | --report | --progressive) ;;
   --quick) size=256 repeats=1 levels="10000 100000" reference=300000 ;;
-  *) echo "usage: bench/peers/run.sh [--quick | --report]" >&2; exit 2 ;;
+  *) echo "usage: bench/peers/run.sh [--quick | --report | --progressive [--quick]]" >&2; exit 2 ;;
 esac
 
 command -v povray >/dev/null || { echo "run.sh: povray is not installed (scripts/install-deps.sh)" >&2; exit 2; }
@@ -78,6 +97,21 @@ povray_run() {
   wall "$3.time" "$3.log" povray -D -V +WT"$threads" -A +W"$size" +H"$size" +FN File_Gamma=1.0 \
     Declare=Photons="$2" Declare=Gather="$neighbours" Declare=Radius="$pov_radius" +I"$here/$1.pov" +O"$3"
 }
+# Photon directions a progressive pass shoots when PP_PHOTONS is not set: the glass of liquid's
+# cup covers ~0.45% of the lamp's sphere (the glass sphere and the ring ~1%), so it gets more.
+declare -A scene_pp_photons=([glass_sphere]=3000000 [ring]=3000000 [glass_of_liquid]=20000000)
+# caustica_passes SCENE PASSES DIRECTIONS PNG: one progressive accumulation; PNG.log and PNG.time.
+# (--time 1e6, never reached, makes --passes 1 an accumulation's first pass rather than the single
+# k-nearest pass.)
+caustica_passes() {
+  wall "$4.time" "$4.log" "$build/caustica" render -S --integrator progressive --threads "$threads" "${resolution_flag[$size]}" \
+    --passes "$2" --time 1e6 --caustic-num-photons "$3" --caustic-num-neighbours "$pp_neighbours" "$here/$1.lua" -o "$4"
+}
+# Seconds of an accumulation's photon stages and passes (caustica -S), without the scene build.
+caustica_pass_stages() {
+  awk '/time: (projection maps|photon shooting|photon k-d tree|photon passes|progressive passes)/ { s += $(NF-1) }
+       END { printf "%.3f", s }' "$1.log"
+}
 caustica_stored() { sed -n 's/.*caustic photons, light 1: .* \([0-9]*\) stored.*/\1/p' "$1.log"; }
 caustica_traced() { sed -n 's/.*caustic photons, light 1: .* \([0-9]*\) traced.*/\1/p' "$1.log"; }
 povray_stored() { sed -n 's/^Surface photons stored: *\([0-9]*\).*/\1/p' "$1.log"; }
@@ -101,6 +135,18 @@ caustic_error() {
     sed 's/rmse=\([^ ]*\) relative=\([^ ]*\) mean_test=[^ ]* mean_ref=\([^ ]*\) pixels=[^ ]* clipped_ref=\(.*\)/\1 \2 \3 \4/'
 }
 
+# prepare_scene SCENE: the render without caustics (the shadow mask of caustic_error) and the
+# stored photons per photon requested of each renderer (ours_ratio, pov_ratio), to match the two
+# renderers' stored counts.
+prepare_scene() {
+  "$build/caustica" render -s --integrator progressive --threads "$threads" --disable-aa "${resolution_flag[$size]}" --no-caustic-map \
+    "$here/$1.lua" -o "$out/$1-no-caustics.png"
+  caustica_run "$1" 2000000 "$out/$1-calibrate-caustica.png"
+  povray_run "$1" 30000 "$out/$1-calibrate-povray.png"
+  ours_ratio=$(awk -v s="$(caustica_stored "$out/$1-calibrate-caustica.png")" 'BEGIN { print s / 2000000 }')
+  pov_ratio=$(awk -v s="$(povray_stored "$out/$1-calibrate-povray.png")" 'BEGIN { print s / 30000 }')
+}
+
 results=$out/results.tsv references=$out/references.tsv
 measure() {
   rm -f "$out"/runs.tsv.*
@@ -115,13 +161,7 @@ measure() {
   local scene
   for scene in $scenes; do
     echo "== $scene"
-    "$build/caustica" render -s --integrator progressive --threads "$threads" --disable-aa "${resolution_flag[$size]}" --no-caustic-map \
-      "$here/$scene.lua" -o "$out/$scene-no-caustics.png"
-    # Stored photons per photon requested, to match the two renderers' stored counts.
-    caustica_run "$scene" 2000000 "$out/$scene-calibrate-caustica.png"
-    povray_run "$scene" 30000 "$out/$scene-calibrate-povray.png"
-    ours_ratio=$(awk -v s="$(caustica_stored "$out/$scene-calibrate-caustica.png")" 'BEGIN { print s / 2000000 }')
-    pov_ratio=$(awk -v s="$(povray_stored "$out/$scene-calibrate-povray.png")" 'BEGIN { print s / 30000 }')
+    prepare_scene "$scene"
 
     # The references: as many stored photons as asked, or as caustica's direction cap allows.
     ref_target=$(awk -v t="$reference" -v c="$max_directions" -v r="$ours_ratio" \
@@ -252,6 +292,103 @@ report() {
     }'
 }
 
+# --progressive: POV-Ray's levels and caustica's accumulated passes, error against time.
+progressive_tsv=$out/progressive.tsv
+measure_progressive() {
+  printf 'scene\trenderer\tlevel\tphotons\twall_s\tstages_s\trelative_own\trelative_common\n' >"$progressive_tsv"
+  local scene level
+  for scene in $scenes; do
+    echo "== $scene (progressive)"
+    prepare_scene "$scene"
+    local ours_ref=$out/$scene-progressive-ref.png pov_ref=$out/$scene-povray-pref.png
+    local photons=${pp_photons:-${scene_pp_photons[$scene]}}
+    caustica_passes "$scene" "$pp_ref_passes" "$pp_ref_photons" "$ours_ref"
+    povray_run "$scene" "$(awk -v t="$reference" -v r="$pov_ratio" 'BEGIN { printf "%d", t / r }')" "$pov_ref"
+    echo "   references: caustica $pp_ref_passes passes in $(cat "$ours_ref.time") s, POV-Ray $(povray_stored "$pov_ref") stored in $(cat "$pov_ref.time") s"
+    for level in $levels; do
+      local png=$out/$scene-povray-p$level.png times=()
+      for ((r = 0; r < repeats; ++r)); do
+        povray_run "$scene" "$(awk -v t="$level" -v r="$pov_ratio" 'BEGIN { printf "%d", t / r }')" "$png"
+        times+=("$(cat "$png.time")")
+      done
+      read -r _ own _ < <(caustic_error "$scene" "$png" "$pov_ref")
+      read -r _ common _ < <(caustic_error "$scene" "$png" "$ours_ref")
+      printf '%s\tpovray\t%s\t%s\t%s\t%s\t%s\t%s\n' "$scene" "$level" "$(povray_stored "$png")" \
+        "$(echo "${times[*]}" | median)" "$(povray_stages "$png" | awk '{ printf "%.3f", $1 + $2 }')" "$own" "$common" \
+        >>"$progressive_tsv"
+      echo "   POV-Ray $(povray_stored "$png") stored: ${times[*]} s, relative $own (own reference), $common (common)"
+    done
+    for level in $passes; do
+      local png=$out/$scene-progressive-$level.png times=()
+      for ((r = 0; r < repeats; ++r)); do
+        caustica_passes "$scene" "$level" "$photons" "$png"
+        times+=("$(cat "$png.time")")
+      done
+      read -r _ own _ < <(caustic_error "$scene" "$png" "$ours_ref")
+      printf '%s\tcaustica\t%s\t%s\t%s\t%s\t%s\t%s\n' "$scene" "$level" "$((level * photons))" \
+        "$(echo "${times[*]}" | median)" "$(caustica_pass_stages "$png")" "$own" "$own" >>"$progressive_tsv"
+      echo "   caustica $level passes: ${times[*]} s, relative $own"
+    done
+  done
+  echo "$(date -u +%Y-%m-%d), $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the end; ${size}x${size}," \
+       "$threads threads; POV-Ray: $neighbours photons per estimate within $pov_radius, levels of stored photons $levels," \
+       "reference $reference stored; caustica: --passes $passes of ${pp_photons:-3e6 (2e7 for glass_of_liquid)} directions, N $pp_neighbours," \
+       "reference $pp_ref_passes passes of $pp_ref_photons; median of $repeats runs." >"$out/progressive-setup.txt"
+}
+
+# The progressive report: both curves, and the two targets per scene on wall time and on stage
+# times, with errors against each renderer's own reference and against the common one.
+report_progressive() {
+  echo "# caustica's progressive integrator against POV-Ray 3.7: error against time"
+  echo
+  cat "$out/progressive-setup.txt"
+  echo
+  echo "| scene | renderer | level | photons | wall s | stages s | relative (own reference) | relative (common reference) |"
+  echo "|---|---|---:|---:|---:|---:|---:|---:|"
+  tail -n +2 "$progressive_tsv" | awk -F'\t' '{ printf "| %s | %s | %s%s | %.0f | %.2f | %.3f | %.3f | %.3f |\n", $1, $2, $3,
+                                               $2 == "caustica" ? " passes" : " stored", $4, $5, $6, $7, $8 }'
+  echo
+  echo "Targets: T = POV-Ray's time at its best (lowest) error E; caustica's time to reach E (log-log"
+  echo "interpolated between its passes; \">\" when no pass reaches it) against T / 3, and its error at"
+  echo "time T (interpolated; its last pass's error when T is past it) against E / 2."
+  echo
+  echo "| scene | error | time | POV-Ray best E | at T s | caustica time to E | T / 3 | met | caustica error at T | E / 2 | met |"
+  echo "|---|---|---|---:|---:|---:|---:|---|---:|---:|---|"
+  tail -n +2 "$progressive_tsv" | awk -F'\t' '
+    { k = ++n[$1, $2]; t[$1, $2, k, 5] = $5; t[$1, $2, k, 6] = $6; e[$1, $2, k, 7] = $7; e[$1, $2, k, 8] = $8
+      if (!($1 in seen)) { seen[$1] = 1; order[++scenes] = $1 } }
+    function lerp(x, x0, x1, y0, y1) { return x1 == x0 ? y1 : exp(log(y0) + (log(x) - log(x0)) / (log(x1) - log(x0)) * (log(y1) - log(y0))) }
+    function target(s, ec, tc,   i, best, bt, reach, err, reached, fast, half) {
+      best = 1e30
+      for (i = 1; i <= n[s, "povray"]; ++i) if (e[s, "povray", i, ec] < best) { best = e[s, "povray", i, ec]; bt = t[s, "povray", i, tc] }
+      reach = -1
+      for (i = 1; i <= n[s, "caustica"]; ++i) if (e[s, "caustica", i, ec] <= best) {
+        reach = i == 1 ? t[s, "caustica", 1, tc] : lerp(best, e[s, "caustica", i - 1, ec], e[s, "caustica", i, ec],
+                                                       t[s, "caustica", i - 1, tc], t[s, "caustica", i, tc])
+        break
+      }
+      err = e[s, "caustica", n[s, "caustica"], ec]
+      for (i = 1; i <= n[s, "caustica"]; ++i) if (t[s, "caustica", i, tc] >= bt) {
+        err = i == 1 ? e[s, "caustica", 1, ec] : lerp(bt, t[s, "caustica", i - 1, tc], t[s, "caustica", i, tc],
+                                                     e[s, "caustica", i - 1, ec], e[s, "caustica", i, ec])
+        break
+      }
+      reached = reach < 0 ? "> " sprintf("%.2f", t[s, "caustica", n[s, "caustica"], tc]) : sprintf("%.2f", reach)
+      fast = (reach >= 0 && reach <= bt / 3) ? "yes" : "no"
+      half = (err <= best / 2) ? "yes" : "no"
+      printf("| %s | %s | %s | %.3f | %.2f | %s | %.2f | %s | %.3f | %.3f | %s |\n", s, ec == 7 ? "own" : "common",
+             tc == 5 ? "wall" : "stages", best, bt, reached, bt / 3, fast, err, best / 2, half)
+    }
+    END { for (k = 1; k <= scenes; ++k) for (ec = 7; ec <= 8; ++ec) for (tc = 5; tc <= 6; ++tc) target(order[k], ec, tc) }'
+}
+
+if [[ $mode == --progressive ]]; then
+  measure_progressive
+  report_progressive >"$out/progressive.md"
+  cat "$out/progressive.md"
+  echo "PNGs, logs and progressive.md are in $out"
+  exit 0
+fi
 [[ $mode == --report ]] || measure
 report >"$out/results.md"
 cat "$out/results.md"
