@@ -316,8 +316,8 @@ void ViewModel::update() {
             mark_dirty();
         }
         running_inputs_.reset();
-    } else if (running_inputs_ && driver_.has_job() && (driver_.progress().tiles_total > 0 || driver_.progress().finished)) {
-        committed_inputs_ = running_inputs_;  // prepared without error
+    } else if (running_inputs_ && driver_.has_job() && (driver_.progress().prepared || driver_.progress().finished)) {
+        committed_inputs_ = running_inputs_;  // prepared without error (photons included)
     }
     resolve_target();
     update_overlay();

@@ -294,7 +294,12 @@ void RenderSession::run() {
             if (direct_first_) render_direct_preview(arena);
             if (cancel_requested_) return;
             prepare_caustics();
-            if (!cancel_requested_) render_passes(arena, threads);
+            if (cancel_requested_) return;
+            {
+                std::lock_guard lock(mutex_);
+                progress_.prepared = true;
+            }
+            render_passes(arena, threads);
         });
     } catch (const InputError& e) {
         error_ = std::make_exception_ptr(located_option_error(job_, e));

@@ -46,6 +46,9 @@ struct SessionProgress {
     bool running = false;
     bool finished = false;   ///< completed every pass
     bool cancelled = false;
+    /// Every stage before the image passes (scene, photons) is built without error. A preview may
+    /// show a direct-light pass before that (its tiles do not mean the job renders).
+    bool prepared = false;
     std::string stage;       ///< what is being done now
     /// Progressive accumulation (Options::accumulates()): passes averaged so far, their limit
     /// (0 = none), photon directions over all passes, mean samples per pixel, the radius of the
