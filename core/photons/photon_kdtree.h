@@ -48,25 +48,10 @@ public:
         const float radius2 = radius * radius;
         const glm::vec3 outside = glm::max(glm::max(lo_ - query, query - hi_), glm::vec3(0.0f));
         if (glm::dot(outside, outside) >= radius2) return;
-        std::uint32_t stack[64];
-        int depth = 0;
-        std::uint32_t node = 0;
-        for (;;) {
-            const Node& n = nodes_[node];
-            if (n.axis_or_leaf != leaf_tag) {
-                const float d = query[n.axis_or_leaf] - n.split;
-                if (d * d < radius2) stack[depth++] = d < 0.0f ? n.a : node + 1;
-                node = d < 0.0f ? node + 1 : n.a;
-                continue;
-            }
-            for (std::uint32_t i = n.a; i < n.b; ++i) {
-                const glm::vec3 v = points_[i] - query;
-                const float d2 = glm::dot(v, v);
-                if (d2 < radius2) visit(i, d2);
-            }
-            if (depth == 0) break;
-            node = stack[--depth];
-        }
+        walk(query, radius2, [&](std::uint32_t i, float distance2) {
+            if (distance2 < radius2) visit(i, distance2);
+            return radius2;  // a fixed bound: every subtree whose plane lies within the radius
+        });
     }
 
     /// The points in tree order.

@@ -138,11 +138,15 @@ void RenderSession::warn_about_options() {
                   "renders its passes as the original did; ignored");
 }
 
-void RenderSession::prepare() {
+void RenderSession::prepare_checked_scene() {
     if (!job_.scene) throw InputError("no scene to render");
     validate_render_job(job_);  // numbers the renderer cannot compute with: refused with their line
     prepare_scene();
     warn_about_options();
+}
+
+void RenderSession::prepare() {
+    prepare_checked_scene();
     if (cancel_requested_) return;  // the photon pass would be thrown away
     prepare_caustics();
 }
@@ -282,10 +286,7 @@ void RenderSession::run() {
         // Flush-to-zero is set per task where rays are traced (tiles, photons, projection maps),
         // not here: validation must see the smallest numbers as they are.
         arena.execute([&] {
-            if (!job_.scene) throw InputError("no scene to render");
-            validate_render_job(job_);
-            prepare_scene();
-            warn_about_options();
+            prepare_checked_scene();
             if (cancel_requested_) return;
             // An accumulating preview shows direct light at once: a coarse pass before photons
             // that are not cached yet are shot.
@@ -475,6 +476,17 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     ++counters_.renders;
 }
 
+namespace {
+
+/// The photon directions a stage's lights were given.
+long long photon_directions(const CausticStage& stage) {
+    long long directions = 0;
+    for (const LightCausticStats& l : stage.lights) directions += l.candidates;
+    return directions;
+}
+
+}  // namespace
+
 void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& setup, const TileContext& context) {
     // Progressive photon mapping, memoryless (Knaus & Zwicker 2011; docs/CAUSTICS.md): pass i
     // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
@@ -549,8 +561,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
             {
                 std::lock_guard lock(mutex_);
                 progress_.photons_done = 0;
-                progress_.photons_total = 0;
-                for (const LightCausticStats& l : caustics_->lights) progress_.photons_total += l.candidates;
+                progress_.photons_total = photon_directions(*caustics_);
             }
             fresh = std::make_unique<CausticStage>();
             set_stage("shooting photons");
@@ -560,10 +571,8 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
                 break;
             }
             map = fresh->map.get();
-            for (const LightCausticStats& l : fresh->lights) acc.photons_emitted += l.candidates;
-        } else if (p == 0 && has_photons) {
-            for (const LightCausticStats& l : caustics_->lights) acc.photons_emitted += l.candidates;
         }
+        if (has_photons) acc.photons_emitted += photon_directions(fresh ? *fresh : *caustics_);
         ShadingSetup pass_setup = setup;
         pass_setup.caustic_map = map;
         pass_setup.radius_map = has_photons ? caustics_->map.get() : nullptr;
@@ -585,10 +594,12 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         runner.run("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
             render_accumulation_tile(pass_context, tile, p, accumulator_, image_, c);
         });
-        if (cancel_requested_) {  // a partial pass: its pixels keep their sample, the next pass is new
-            acc.next_pass = p + 1;
-            acc.scale2 = next_radius2(acc.scale2, p + 1, alpha);
-            acc.error = accumulator_.estimate_error();
+        // Pass p + 1 (1-based) has been averaged, wholly or (cancelled) in part: its pixels keep
+        // their sample, the next pass is new and gathers within r_{p+2}.
+        acc.next_pass = p + 1;
+        acc.scale2 = next_radius2(acc.scale2, p + 1, alpha);
+        acc.error = accumulator_.estimate_error();
+        if (cancel_requested_) {
             stopped_by = "cancelled";
             break;
         }
@@ -602,10 +613,6 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         radius_samples_before = pass_total.radius_samples;
         if (p == 0) acc.first_radius = radius;
         acc.radius = radius;
-        // Pass p + 1 (1-based) has just been averaged: the next gathers within r_{p+2}.
-        acc.scale2 = next_radius2(acc.scale2, p + 1, alpha);
-        acc.next_pass = p + 1;
-        acc.error = accumulator_.estimate_error();
         last_pass_seconds = now_seconds() - t0;
         std::lock_guard lock(mutex_);
         progress_.passes_done = acc.next_pass;

@@ -149,6 +149,7 @@ public:
 private:
     void run();                 // the background thread's body
     void prepare_scene();       // flattening, BVH, textures
+    void prepare_checked_scene();  // the job validated, its scene built, its option warnings
     void prepare_caustics();    // projection maps, photons, k-d tree
     void publish_caustic_stats();  // under mutex_
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
