@@ -18,18 +18,22 @@ echo "== suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 # named in tests/lsan.supp. RelWithDebInfo: optimised enough for the renderer's tests, with line
 # numbers in the reports. No benchmarks. A quarantine of 64 MiB instead of 256: the loader's
 # many small allocations make a process grow about 12 times the quarantine, which the memory
-# bounds of the reproducer tests would take for a leak of the budget.
+# bounds of the reproducer tests would take for a leak of the budget. Line tables only (-g1): the
+# reports keep their file:line frames, the build is a fifth faster; the test sources themselves
+# are built at -O0 (tests/CMakeLists.txt), four times faster to compile.
 export ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:strict_string_checks=1:check_initialization_order=1:quarantine_size_mb=64
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAUSTICA_SANITIZE=address,undefined \
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+      -DCAUSTICA_SANITIZE=address,undefined \
       -DCAUSTICA_BUILD_BENCH=OFF >/dev/null
 cmake --build build-asan -j2
 ctest --test-dir build-asan --output-on-failure -j2
 unset ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS
 
 echo "== session tests under ThreadSanitizer"
-cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAUSTICA_SANITIZE=thread \
+cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+      -DCAUSTICA_SANITIZE=thread \
       -DCAUSTICA_BUILD_BENCH=OFF >/dev/null
 cmake --build build-tsan -j2 --target session_tests
 TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/ui/session_tests
