@@ -16,6 +16,7 @@ const char* usage =
     "\n"
     "usage:\n"
     "  caustica render [options] SCENE.lua [-o OUT.png]   render every gr.render of a scene\n"
+    "                                                     (-o OUT.exr or OUT.pfm: linear float)\n"
     "  caustica view [SCENE.lua] [--headless] [--snapshot FILE.png] ...\n"
     "                                                     interactive preview ('caustica view --help')\n"
     "  caustica SCENE.lua                                 same as 'caustica render SCENE.lua'\n"

@@ -2,6 +2,7 @@
 
 #include "app/progress_bar.h"
 #include "core/lua/scene_loader.h"
+#include "core/io/image_io.h"
 #include "core/io/png_io.h"
 #include "core/render/render_session.h"
 #include "core/scene/source_location.h"
@@ -23,7 +24,8 @@ namespace {
 std::atomic<bool> interrupted{false};
 
 /// The first Ctrl-C or SIGTERM asks every stage to stop (within a second); a second one leaves at
-/// once, removing the temporary of a PNG being written so that nothing partial stays behind.
+/// once, removing the temporary of an image being written (PNG, EXR or PFM) so that nothing
+/// partial stays behind.
 extern "C" void on_interrupt(int) {
     if (!interrupted.exchange(true)) return;
     remove_png_temporaries_from_signal_handler();
@@ -68,8 +70,8 @@ RenderArguments parse_arguments(const std::vector<std::string>& args) {
     parsed.scene = positional[0];
     for (const std::string& t : tokens)
         if (t != parsed.scene) parsed.option_tokens.push_back(t);
-    if (!parsed.output.empty() && std::filesystem::path(parsed.output).extension() != ".png")
-        throw InputError("-o " + parsed.output + ": the output must be a .png file");
+    if (!parsed.output.empty() && !image_format_of(parsed.output))
+        throw InputError("-o " + parsed.output + ": the output must end in .png, .exr or .pfm");
     return parsed;
 }
 
@@ -86,15 +88,18 @@ std::string output_path(const RenderArguments& args, const RenderJob& job, std::
 /// fails after rendering (README, exit codes). Also removes stale temporaries of killed runs.
 void check_writable(const std::string& path, const RenderJob& job, bool from_command_line) {
     std::filesystem::path p(path);
-    if (p.extension() != ".png") throw InputError(job.where, "gr.render: output '" + path + "' must end in .png");
+    if (!image_format_of(path))
+        throw InputError(job.where, "gr.render: output '" + path + "' must end in .png, .exr or .pfm");
     const std::string prefix = from_command_line ? "-o: cannot write '" + path + "': "
                                                  : job.where.str() + ": gr.render: cannot write '" + path + "': ";
     std::filesystem::path dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
+    std::error_code ec;
     if (!std::filesystem::is_directory(dir))
-        throw std::runtime_error(prefix + "folder '" + dir.string() + "' does not exist");
+        throw std::runtime_error(prefix + (std::filesystem::exists(dir, ec) ? "'" + dir.string() + "' is not a folder"
+                                                                            : "folder '" + dir.string() + "' does not exist"));
     if (::access(dir.c_str(), W_OK) != 0)
         throw std::runtime_error(prefix + "folder '" + dir.string() + "' is not writable");
-    if (const std::string problem = png_output_problem(path); !problem.empty()) throw std::runtime_error(prefix + problem);
+    if (const std::string problem = output_file_problem(path); !problem.empty()) throw std::runtime_error(prefix + problem);
     remove_stale_png_temporaries(dir.string());
 }
 
@@ -161,12 +166,58 @@ void print_stats(const RenderStats& stats, bool timing, bool statistics) {
                 std::fprintf(stderr, "  estimated error        %9s (needs 2 passes and a caustic)\n", "unknown");
             std::fprintf(stderr, "  accumulation buffers   %9.1f MiB\n", a.bytes / 1048576.0);
         }
-        for (const StageTime& s : stats.stages)
-            std::fprintf(stderr, "  time: %-16s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? " (cached)" : "");
+        if (!timing)  // -t has just printed them: once is enough
+            for (const StageTime& s : stats.stages)
+                std::fprintf(stderr, "  time: %-16s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? " (cached)" : "");
     }
 }
 
-/// Renders one job to completion (or interruption) and writes its PNG. Returns an exit code.
+/// How the job's options write its image (--srgb, --tonemap, --exposure, --exr-pixel).
+ImageWriteSettings write_settings(const Options& o) {
+    ImageWriteSettings settings;
+    settings.encoding = o.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear;
+    settings.tonemap = o.tonemap;
+    settings.exposure_stops = static_cast<float>(o.exposure);
+    settings.exr_pixel = o.exr_pixel;
+    return settings;
+}
+
+std::string format_vector(const glm::dvec3& v) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%.9g %.9g %.9g", v.x, v.y, v.z);
+    return text;
+}
+
+/// The PNG text chunks / EXR string attributes of a rendered image: what made it (the keys of
+/// docs/OUTPUT.md; the preview's save writes the same ones, ui/save_image.cpp).
+ImageMetadata render_metadata(const RenderJob& job, const std::string& scene_path, const RenderStats& stats) {
+    const Options& o = job.options;
+    const CameraDesc& c = job.camera;
+    char seconds[32], fovy[32];
+    std::snprintf(seconds, sizeof seconds, "%.3f", stats.total_seconds);
+    std::snprintf(fovy, sizeof fovy, "%.9g", c.fovy_degrees);
+    const int r = o.resolution_override;
+    ImageMetadata text = {{"Software", "caustica " CAUSTICA_VERSION},
+                          {"Source", scene_path},
+                          {"caustica:integrator", o.integrator == IntegratorKind::classic ? "classic" : "progressive"},
+                          {"caustica:options", describe_non_default(o)},
+                          {"caustica:camera", "eye " + format_vector(c.eye) + " view " + format_vector(c.view) + " up " +
+                                                  format_vector(c.up) + " fovy " + fovy},
+                          {"caustica:size", std::to_string(r ? r : job.width) + "x" + std::to_string(r ? r : job.height)},
+                          {"caustica:render-seconds", seconds}};
+    if (const RenderStats::Accumulation& a = stats.accumulation; a.passes > 0) {
+        text.push_back({"caustica:passes", std::to_string(a.passes)});
+        text.push_back({"caustica:photons", std::to_string(a.photons_emitted)});
+        if (a.error >= 0.0) {
+            char error[32];
+            std::snprintf(error, sizeof error, "%.4f", a.error);
+            text.push_back({"caustica:estimated-error", error});
+        }
+    }
+    return text;
+}
+
+/// Renders one job to completion (or interruption) and writes its image. Returns an exit code.
 int render_job(RenderSession& session, const RenderJob& job, const std::string& scene_path, const std::string& path) {
     const Options& o = job.options;
     session.set_job(job);
@@ -208,25 +259,9 @@ int render_job(RenderSession& session, const RenderJob& job, const std::string& 
         return exit_interrupted;
     }
     const RenderStats stats = session.stats();
-    char seconds[32];
-    std::snprintf(seconds, sizeof seconds, "%.3f", stats.total_seconds);
-    std::vector<std::pair<std::string, std::string>> text = {{"Software", "caustica " CAUSTICA_VERSION},
-                                                             {"Source", scene_path},
-                                                             {"caustica:options", describe_non_default(o)},
-                                                             {"caustica:render-seconds", seconds}};
-    if (const RenderStats::Accumulation& a = stats.accumulation; a.passes > 0) {
-        text.push_back({"caustica:passes", std::to_string(a.passes)});
-        text.push_back({"caustica:photons", std::to_string(a.photons_emitted)});
-        if (a.error >= 0.0) {
-            char error[32];
-            std::snprintf(error, sizeof error, "%.4f", a.error);
-            text.push_back({"caustica:estimated-error", error});
-        }
-    }
     try {
-        write_png_atomic(path, session.image(), o.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear, text,
-                         &interrupted);
-    } catch (const PngWriteCancelled&) {
+        write_image_atomic(path, session.image(), write_settings(o), render_metadata(job, scene_path, stats), &interrupted);
+    } catch (const ImageWriteCancelled&) {
         if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
         return exit_interrupted;
     }
@@ -240,11 +275,14 @@ int render_job(RenderSession& session, const RenderJob& job, const std::string& 
 }  // namespace
 
 std::string render_help() {
-    return "usage: caustica render [options] SCENE.lua [-o OUT.png]\n"
+    return "usage: caustica render [options] SCENE.lua [-o OUT.png|OUT.exr|OUT.pfm]\n"
            "\n"
            "Runs the scene script and renders every gr.render it calls. Without -o each render\n"
            "writes the file the script names, relative to the current folder; with -o a single\n"
            "render writes OUT.png and several write OUT-1.png, OUT-2.png, ...\n"
+           "The extension picks the format: .png (8-bit; --srgb, --tonemap), .exr (OpenEXR, linear\n"
+           "and unclamped, half or --exr-pixel float, parameters in the header) or .pfm (linear float).\n"
+           "--exposure scales every format. docs/OUTPUT.md has the details.\n"
            "The script runs sandboxed: it reads only regular files under its own folder, and\n"
            "--allow-read DIR (repeatable, command line only) lets it read under DIR too.\n"
            "Script names for gr.render are relative to the current folder, without '..'.\n"

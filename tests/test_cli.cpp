@@ -88,6 +88,8 @@ TEST_F(Cli, HelpListsTheOptions) {
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.output.find("--caustic-num-photons"), std::string::npos);
     EXPECT_NE(r.output.find("-o OUT.png"), std::string::npos);
+    for (const char* option : {"--tonemap", "--exposure", "--exr-pixel", "OUT.exr", "OUT.pfm"})
+        EXPECT_NE(r.output.find(option), std::string::npos) << option;
     EXPECT_EQ(run("--help").code, 0);
 }
 

@@ -55,6 +55,45 @@ TEST(Options, ParsesFlagsValuesAndShortForms) {
     EXPECT_EQ(o.resolution_override, 1024);
 }
 
+TEST(Options, ShortOptionsTakeAttachedValuesAndBundle) {
+    Options o;
+    apply_option_tokens(o, {"-j2", "-St"});
+    EXPECT_EQ(o.threads, 2);
+    EXPECT_TRUE(o.stats);
+    EXPECT_TRUE(o.timing);
+    EXPECT_FALSE(o.silent);
+    Options same;
+    apply_option_tokens(same, {"-j", "2", "-S", "-t"});
+    EXPECT_EQ(describe_non_default(o), describe_non_default(same));
+    EXPECT_EQ(error_of({"-jx"}), "--threads: expected a whole number, got 'x'");
+    EXPECT_EQ(error_of({"-j"}), "--threads: expects a value (N)");
+    EXPECT_EQ(error_of({"-Sj2"}),
+              "unknown option '-Sj2': '-j' is not a short flag (a short option taking a value goes alone or first, as in -j2)");
+    EXPECT_EQ(error_of({"-Sq"}).rfind("unknown option '-Sq'", 0), 0u);
+    EXPECT_EQ(error_of({"-x2"}), "unknown option '-x2'");
+}
+
+TEST(Options, OutputToneAndExrOptions) {
+    const Options defaults;
+    EXPECT_EQ(defaults.tonemap, Tonemap::clamp);
+    EXPECT_EQ(defaults.exposure, 0.0);
+    EXPECT_EQ(defaults.exr_pixel, ExrPixel::half);
+    Options o;
+    apply_option_tokens(o, split_option_string("--tonemap filmic --exposure -1.5 --exr-pixel float"));
+    EXPECT_EQ(o.tonemap, Tonemap::filmic);
+    EXPECT_EQ(o.exposure, -1.5);
+    EXPECT_EQ(o.exr_pixel, ExrPixel::float32);
+    EXPECT_EQ(describe_non_default(o), "--tonemap filmic --exposure -1.5 --exr-pixel float");
+    apply_option_tokens(o, {"--tonemap=reinhard"});
+    EXPECT_EQ(o.tonemap, Tonemap::reinhard);
+    EXPECT_EQ(error_of({"--tonemap", "aces"}), "--tonemap: expected clamp, reinhard or filmic, got 'aces'");
+    EXPECT_EQ(error_of({"--exposure", "100"}), "--exposure: 100 is out of range [-64, 64]");
+    EXPECT_EQ(error_of({"--exr-pixel", "double"}), "--exr-pixel: expected half or float, got 'double'");
+    const std::string help = options_help();
+    for (const char* text : {"--tonemap clamp|reinhard|filmic", "--exposure D", "--exr-pixel half|float"})
+        EXPECT_NE(help.find(text), std::string::npos) << text;
+}
+
 TEST(Options, UnknownOptionSuggestsTheClosest) {
     EXPECT_EQ(error_of({"--aa-gird", "3"}), "unknown option '--aa-gird' (did you mean --aa-grid?)");
     EXPECT_EQ(error_of({"--caustic-num-photon", "3"}),

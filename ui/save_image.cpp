@@ -2,7 +2,7 @@
 
 #include "ui/preview_driver.h"
 
-#include "core/io/png_io.h"
+#include "core/io/image_io.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -66,22 +66,43 @@ std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJo
     return text;
 }
 
-SaveResult save_preview_png(const std::string& path, const Image& image, const RenderJob& job,
-                            const std::string& scene_path, const SessionProgress& progress, bool overwrite) {
+SaveResult save_preview_image(const std::string& path, const Image& image, const RenderJob& job,
+                              const std::string& scene_path, const SessionProgress& progress, bool overwrite,
+                              std::optional<SaveToneSettings> tone) {
     namespace fs = std::filesystem;
     if (image.width <= 0 || image.height <= 0) return {SaveOutcome::failed, "nothing rendered yet"};
-    if (fs::path(path).extension() != ".png") return {SaveOutcome::failed, path + ": the file name must end in .png"};
+    const std::optional<ImageFormat> format = image_format_of(path);
+    if (!format) return {SaveOutcome::failed, path + ": the file name must end in .png, .exr or .pfm"};
     std::error_code ec;
-    if (!overwrite && fs::exists(path, ec)) return {SaveOutcome::exists, path + " exists"};
+    const fs::path absolute = fs::absolute(path, ec);
+    const std::string shown = ec ? path : absolute.lexically_normal().string();
+    if (!overwrite && fs::exists(path, ec)) return {SaveOutcome::exists, shown + " exists"};
+    ImageWriteSettings settings;
+    settings.encoding = job.options.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear;
+    settings.tonemap = tone ? tone->tonemap : job.options.tonemap;
+    settings.exposure_stops = tone ? tone->exposure_stops : static_cast<float>(job.options.exposure);
+    settings.exr_pixel = job.options.exr_pixel;
+    ImageMetadata metadata = preview_metadata(job, scene_path, progress);
+    if (*format == ImageFormat::png && (settings.tonemap != Tonemap::clamp || settings.exposure_stops != 0.0f))
+        metadata.push_back({"caustica:tonemap", std::string(tonemap_name(settings.tonemap)) + ", exposure " +
+                                                    format_number("%.6g", settings.exposure_stops) + " stops"});
+    else if (settings.exposure_stops != 0.0f)
+        metadata.push_back({"caustica:exposure", format_number("%.6g", settings.exposure_stops) + " stops"});
     try {
-        write_png_atomic(path, image, job.options.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear,
-                         preview_metadata(job, scene_path, progress));
+        write_image_atomic(ec ? path : absolute.string(), image, settings, metadata);
     } catch (const std::exception& e) {
         return {SaveOutcome::failed, e.what()};
     }
     const std::string passes = progress.accumulating ? passes_done(progress) + " passes" : passes_done(progress);
-    return {SaveOutcome::written, "wrote " + path + " (" + std::to_string(image.width) + " x " +
+    return {SaveOutcome::written, "wrote " + shown + " (" + std::to_string(image.width) + " x " +
                                       std::to_string(image.height) + ", " + passes + ")"};
+}
+
+SaveResult save_preview_png(const std::string& path, const Image& image, const RenderJob& job,
+                            const std::string& scene_path, const SessionProgress& progress, bool overwrite) {
+    if (image_format_of(path) != ImageFormat::png)
+        return {SaveOutcome::failed, path + ": the file name must end in .png"};
+    return save_preview_image(path, image, job, scene_path, progress, overwrite);
 }
 
 }  // namespace caustica::ui

@@ -1,10 +1,14 @@
-// Saving the previewed image: the current samples at the render's resolution, as a PNG written
-// atomically, with the scene, camera, options and render state in its text chunks.
+// Saving the previewed image: the current samples at the render's resolution, as a PNG, OpenEXR or
+// PFM file (by extension) written atomically, with the scene, camera, options and render state in
+// its metadata (PNG text chunks, EXR string attributes; PFM has none).
 #pragma once
 
 #include "core/render/image.h"
 #include "core/render/render_session.h"
 #include "core/scene/scene_desc.h"
+#include "core/io/tonemap.h"
+
+#include <optional>
 
 #include <string>
 #include <utility>
@@ -31,8 +35,22 @@ struct SaveResult {
 std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJob& job, const std::string& scene_path,
                                                                   const SessionProgress& progress);
 
-/// Writes `image` to `path` (must end in .png); refuses to replace an existing file unless
-/// `overwrite`. The encoding follows the job's --srgb, as the batch command's.
+/// How a saved PNG maps linear values (EXR and PFM take the exposure only).
+struct SaveToneSettings {
+    Tonemap tonemap = Tonemap::clamp;
+    float exposure_stops = 0.0f;
+};
+
+/// Writes `image` to `path` as PNG, OpenEXR or PFM by its extension (.png, .exr, .pfm, any case);
+/// refuses to replace an existing file unless `overwrite`. PNG follows the job's --srgb, and
+/// `tone` (default: the job's --tonemap and --exposure); EXR is linear, unclamped, half or the
+/// job's --exr-pixel float, exposure applied; PFM likewise in float. The metadata names the camera
+/// actually rendered (job.camera: the orbited one). The message names the absolute path written.
+SaveResult save_preview_image(const std::string& path, const Image& image, const RenderJob& job,
+                              const std::string& scene_path, const SessionProgress& progress, bool overwrite,
+                              std::optional<SaveToneSettings> tone = std::nullopt);
+
+/// save_preview_image for a path that must end in .png (kept for existing callers).
 SaveResult save_preview_png(const std::string& path, const Image& image, const RenderJob& job,
                             const std::string& scene_path, const SessionProgress& progress, bool overwrite);
 

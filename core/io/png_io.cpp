@@ -495,11 +495,8 @@ int remove_stale_png_temporaries(const std::string& folder) {
     return removed;
 }
 
-void write_png_atomic(const std::string& path, const Image& image, PixelEncoding encoding,
-                      const std::vector<std::pair<std::string, std::string>>& text,
-                      const std::atomic<bool>* cancel) {
+void write_file_atomic(const std::string& path, const FileWriteBody& body, const std::atomic<bool>* cancel) {
     namespace fs = std::filesystem;
-    if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": cannot write an empty image");
     std::error_code ec;
     const fs::path target = fs::absolute(path, ec);
     if (ec) throw std::runtime_error("cannot write '" + path + "': " + ec.message());
@@ -510,24 +507,48 @@ void write_png_atomic(const std::string& path, const Image& image, PixelEncoding
     std::unique_ptr<FILE, int (*)(FILE*)> file(create_temporary(target, write_marker, published, temporary), std::fclose);
     if (!file) throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
     std::string error;
-    WriteOutcome outcome = write_png_stream(file.get(), image, encoding, text, cancel, error);
-    if (outcome == WriteOutcome::written && (std::fflush(file.get()) != 0 || ::fsync(::fileno(file.get())) != 0)) {
-        outcome = WriteOutcome::failed;
+    FileWriteOutcome outcome = FileWriteOutcome::failed;
+    try {
+        outcome = body(file.get(), error);
+    } catch (...) {
+        file.reset();
+        ::unlink(temporary.c_str());
+        throw;
+    }
+    if (outcome == FileWriteOutcome::written && (std::fflush(file.get()) != 0 || ::fsync(::fileno(file.get())) != 0)) {
+        outcome = FileWriteOutcome::failed;
         error = std::strerror(errno);
     }
-    if (std::fclose(file.release()) != 0 && outcome == WriteOutcome::written) {
-        outcome = WriteOutcome::failed;
+    if (std::fclose(file.release()) != 0 && outcome == FileWriteOutcome::written) {
+        outcome = FileWriteOutcome::failed;
         error = std::strerror(errno);
     }
-    if (outcome == WriteOutcome::written && cancel && cancel->load()) outcome = WriteOutcome::cancelled;
-    if (outcome == WriteOutcome::written && std::rename(temporary.c_str(), target.c_str()) != 0) {
-        outcome = WriteOutcome::failed;
+    if (outcome == FileWriteOutcome::written && cancel && cancel->load()) outcome = FileWriteOutcome::cancelled;
+    if (outcome == FileWriteOutcome::written && std::rename(temporary.c_str(), target.c_str()) != 0) {
+        outcome = FileWriteOutcome::failed;
         error = std::strerror(errno);
     }
-    if (outcome == WriteOutcome::written) return;
+    if (outcome == FileWriteOutcome::written) return;
     ::unlink(temporary.c_str());
-    if (outcome == WriteOutcome::cancelled) throw PngWriteCancelled("writing '" + path + "' was interrupted; nothing written");
-    throw std::runtime_error("cannot write '" + path + "': " + error);
+    if (outcome == FileWriteOutcome::cancelled) throw ImageWriteCancelled("writing '" + path + "' was interrupted; nothing written");
+    throw std::runtime_error("cannot write '" + path + "': " + (error.empty() ? std::string("write failed") : error));
+}
+
+void write_png_atomic(const std::string& path, const Image& image, PixelEncoding encoding,
+                      const std::vector<std::pair<std::string, std::string>>& text,
+                      const std::atomic<bool>* cancel) {
+    if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": cannot write an empty image");
+    write_file_atomic(
+        path,
+        [&](FILE* file, std::string& error) {
+            switch (write_png_stream(file, image, encoding, text, cancel, error)) {
+                case WriteOutcome::written: return FileWriteOutcome::written;
+                case WriteOutcome::cancelled: return FileWriteOutcome::cancelled;
+                case WriteOutcome::failed: break;
+            }
+            return FileWriteOutcome::failed;
+        },
+        cancel);
 }
 
 std::string png_output_problem(const std::string& path) {

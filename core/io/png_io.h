@@ -7,6 +7,8 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <functional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -26,12 +28,27 @@ enum class PixelEncoding {
 /// x255, rounded.
 unsigned char encode_channel(float value, PixelEncoding encoding);
 
-/// Thrown by write_png_atomic when its cancel flag was raised; the temporary is already removed
-/// and nothing was written at the output path.
-class PngWriteCancelled : public std::runtime_error {
+/// Thrown by write_png_atomic (and write_file_atomic, and the EXR and PFM writers built on it) when
+/// its cancel flag was raised; the temporary is already removed and nothing was written at the path.
+class ImageWriteCancelled : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
 };
+using PngWriteCancelled = ImageWriteCancelled;
+
+/// What a file body writer reports to write_file_atomic.
+enum class FileWriteOutcome { written, failed, cancelled };
+
+/// Writes a whole file's bytes to `file` (a fresh temporary); on `failed` sets `error` to the
+/// reason. It may also throw: write_file_atomic then removes the temporary and rethrows.
+using FileWriteBody = std::function<FileWriteOutcome(std::FILE* file, std::string& error)>;
+
+/// The atomic-write machinery of write_png_atomic for any format: removes stale temporaries of
+/// killed runs from the folder, creates a hidden temporary ".NAME.caustica-tmp-HOST-PID-N" beside
+/// `path` (published for remove_png_temporaries_from_signal_handler), runs `body` on it, flushes,
+/// fsyncs and renames it over `path`. A failure or `cancel` (checked again before the rename)
+/// removes the temporary: std::runtime_error "cannot write 'PATH': reason", or ImageWriteCancelled.
+void write_file_atomic(const std::string& path, const FileWriteBody& body, const std::atomic<bool>* cancel = nullptr);
 
 /// Writes an RGB PNG atomically: to a hidden temporary in the same folder
 /// (".NAME.png.caustica-tmp-HOST-PID-N"), then rename, so a failed or interrupted write never leaves
@@ -48,12 +65,14 @@ void write_png_atomic(const std::string& path, const Image& image, PixelEncoding
 /// system, or a folder root may not write to), `path` is not a folder and its name is not too
 /// long. Returns "" or the reason ("No such file or directory", "it is a folder", ...).
 std::string png_output_problem(const std::string& path);
+/// The same check for any format (the name says what it is for).
+inline std::string output_file_problem(const std::string& path) { return png_output_problem(path); }
 
-/// Unlinks the temporaries of the PNG writes in progress. Async-signal-safe: for a signal
+/// Unlinks the temporaries of the writes in progress (PNG, EXR, PFM: every write_file_atomic). Async-signal-safe: for a signal
 /// handler that is about to end the process (a second Ctrl-C), so that no temporary survives it.
 void remove_png_temporaries_from_signal_handler() noexcept;
 
-/// Removes, from `folder`, the temporaries of write_png_atomic whose writing process no longer
+/// Removes, from `folder`, the temporaries of write_file_atomic (any format) whose writing process no longer
 /// exists: files named ".NAME.png.caustica-tmp-HOST-PID-N" (or "-probe-", from
 /// png_output_problem) owned by this user, HOST this machine and PID not running.
 /// Returns how many were removed; errors are ignored (the folder may be unreadable).

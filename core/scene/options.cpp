@@ -212,6 +212,15 @@ const std::vector<OptionSpec>& option_table() {
          [](const Options& o) { return std::to_string(o.shadow_grid); }},
         flag("rays", 0, "output", "orange sunburst background instead of the miss colour", &Options::rays),
         flag("srgb", 0, "output", "encode sRGB in the PNG (default: clamped linear, as the seed)", &Options::srgb),
+        choice<Tonemap>("tonemap", "clamp|reinhard|filmic", "output",
+                        "PNG tone curve: clamp (the seed), x/(1+x), ACES fit (docs/OUTPUT.md); EXR, PFM stay linear",
+                        &Options::tonemap,
+                        {{"clamp", Tonemap::clamp}, {"reinhard", Tonemap::reinhard}, {"filmic", Tonemap::filmic}}),
+        real("exposure", "output", "scale the written image by 2^D (stops; every format, before --tonemap)",
+             &Options::exposure, -64.0, 64.0),
+        choice<ExrPixel>("exr-pixel", "half|float", "output",
+                         "channel type of -o OUT.exr: 16-bit half (11 significant bits) or 32-bit float (exact)",
+                         &Options::exr_pixel, {{"half", ExrPixel::half}, {"float", ExrPixel::float32}}),
         resolution("minres", "render at 100 x 100", 100),
         resolution("lores", "render at 256 x 256", 256),
         resolution("midres", "render at 512 x 512", 512),
@@ -333,6 +342,26 @@ void apply_option_tokens(Options& options, const std::vector<std::string>& token
         } else if (token.size() == 2 && token[0] == '-' && token[1] != '-') {
             spec = find_short(token[1]);
             if (!spec) unknown_option(token, token.substr(1));
+        } else if (token.size() > 2 && token[0] == '-' && token[1] != '-' && find_short(token[1])) {
+            // "-j2": a short option with its value attached; "-St": short flags bundled.
+            spec = find_short(token[1]);
+            if (spec->value_name) {
+                value = token.substr(2);
+                has_inline_value = true;
+            } else {
+                for (std::size_t k = 1; k < token.size(); ++k) {
+                    const OptionSpec* f = find_short(token[k]);
+                    if (!f || f->value_name)
+                        throw InputError("unknown option '" + token + "': '-" + token[k] +
+                                         "' is not a short flag (a short option taking a value goes alone or "
+                                         "first, as in -j2)");
+                }
+                for (std::size_t k = 1; k + 1 < token.size(); ++k) find_short(token[k])->set(options, "");
+                spec = find_short(token.back());
+            }
+        } else if (token.size() > 2 && token[0] == '-' && token[1] != '-') {
+            // Not a scene name either: say so, rather than "one scene at a time" later.
+            throw InputError("unknown option '" + token + "'");
         } else {
             if (!positional) throw InputError("unexpected argument '" + token + "' (options start with --)");
             positional->push_back(token);

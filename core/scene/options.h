@@ -1,6 +1,9 @@
 // Render options: one table drives the command line, gr.option, --help and the PNG metadata.
 #pragma once
 
+#include "core/io/image_io.h"
+#include "core/io/tonemap.h"
+
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,6 +45,9 @@ struct Options {
     bool draw_gi_only = false;     ///< only the GI estimate (implies the GI map)
     bool srgb = false;             ///< encode sRGB in the PNG (default: clamp, linear, as the seed)
     int resolution_override = 0;   ///< --minres/--lores/--midres/--hires: square size, 0 = as scripted
+    Tonemap tonemap = Tonemap::clamp;  ///< --tonemap: PNG only (the default clamps, as the seed)
+    double exposure = 0.0;         ///< --exposure: stops, every output format
+    ExrPixel exr_pixel = ExrPixel::half;  ///< --exr-pixel: channel type of EXR output
     // values
     int threads = 0;               ///< 0 = all cores
     int aa_grid = 3;
