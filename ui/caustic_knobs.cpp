@@ -1,25 +1,96 @@
 #include "ui/caustic_knobs.h"
 
+#include <charconv>
+#include <string>
+
 namespace caustica::ui {
 namespace {
 
-enum Field : std::uint32_t {
-    photons = 1u << 0,
-    unit = 1u << 1,
-    neighbours = 1u << 2,
-    max_dist = 1u << 3,
-    fudge = 1u << 4,
-    map_mode = 1u << 5,
-    granularity = 1u << 6,
-    only = 1u << 7,
-    dots = 1u << 8,
-    integrator = 1u << 9,
-    gi = 1u << 10,
-    gi_photons = 1u << 11,
-    gi_neighbours = 1u << 12,
-};
+constexpr std::uint32_t bit(KnobField f) { return static_cast<std::uint32_t>(f); }
+constexpr std::uint32_t photons = bit(KnobField::photons), unit = bit(KnobField::unit),
+                        neighbours = bit(KnobField::neighbours), max_dist = bit(KnobField::max_dist),
+                        fudge = bit(KnobField::fudge), map_mode = bit(KnobField::map_mode),
+                        granularity = bit(KnobField::granularity), only = bit(KnobField::only),
+                        dots = bit(KnobField::dots), integrator = bit(KnobField::integrator), gi = bit(KnobField::gi),
+                        gi_photons = bit(KnobField::gi_photons), gi_neighbours = bit(KnobField::gi_neighbours);
+
+const char* map_mode_name(ProjectionMapMode m) {
+    return m == ProjectionMapMode::on ? "on" : m == ProjectionMapMode::off ? "off" : "auto";
+}
 
 }  // namespace
+
+std::string exact_number(double value) {
+    char text[64];
+    const auto [end, ec] = std::to_chars(text, text + sizeof text, value);  // shortest round trip
+    return ec == std::errc() ? std::string(text, end) : std::to_string(value);
+}
+
+const char* knob_label(KnobField field) {
+    switch (field) {
+    case KnobField::photons: return "photons";
+    case KnobField::unit: return "unit distance";
+    case KnobField::neighbours: return "neighbours N";
+    case KnobField::max_dist: return "max distance";
+    case KnobField::fudge: return "energy fudge";
+    case KnobField::map_mode: return "projection maps";
+    case KnobField::granularity: return "map granularity";
+    case KnobField::only: return "photons only";
+    case KnobField::dots: return "photon dots";
+    case KnobField::integrator: return "integrator";
+    case KnobField::gi: return "global illumination";
+    case KnobField::gi_photons: return "GI photons";
+    case KnobField::gi_neighbours: return "GI neighbours";
+    }
+    return "?";
+}
+
+std::string knob_value_text(const CausticKnobs& k, KnobField field) {
+    switch (field) {
+    case KnobField::photons: return std::to_string(k.num_photons);
+    case KnobField::unit: return exact_number(k.unit_distance);
+    case KnobField::neighbours: return std::to_string(k.num_neighbours);
+    case KnobField::max_dist: return k.max_dist < 0.0 ? "auto (" + exact_number(0.15 * k.unit_distance) + ")" : exact_number(k.max_dist);
+    case KnobField::fudge: return exact_number(k.energy_fudge);
+    case KnobField::map_mode: return map_mode_name(k.projection_map);
+    case KnobField::granularity: return std::to_string(k.pm_granularity);
+    case KnobField::only: return k.photons_only ? "on" : "off";
+    case KnobField::dots: return k.photon_dots ? "on" : "off";
+    case KnobField::integrator: return k.integrator == IntegratorKind::progressive ? "progressive" : "classic";
+    case KnobField::gi: return k.gi ? "on" : "off";
+    case KnobField::gi_photons: return std::to_string(k.gi_photons);
+    case KnobField::gi_neighbours: return std::to_string(k.gi_neighbours);
+    }
+    return {};
+}
+
+bool knob_differs(const CausticKnobs& a, const CausticKnobs& b, KnobField field) {
+    return knob_value_text(a, field) != knob_value_text(b, field) ||
+           (field == KnobField::max_dist && a.max_dist != b.max_dist);
+}
+
+std::vector<std::string> knob_tokens(const CausticKnobs& k, const CausticKnobs& base, KnobField field) {
+    if (!knob_differs(k, base, field)) return {};
+    switch (field) {
+    case KnobField::photons: return {"--caustic-num-photons", std::to_string(k.num_photons)};
+    case KnobField::unit: return {"--unit-distance", exact_number(k.unit_distance)};
+    case KnobField::neighbours: return {"--caustic-num-neighbours", std::to_string(k.num_neighbours)};
+    case KnobField::max_dist:
+        // "auto" has no value of its own on the command line; --quality would reset more than it.
+        if (k.max_dist < 0.0) return {};
+        return {"--caustic-max-dist", exact_number(k.max_dist)};
+    case KnobField::fudge: return {"--energy-fudge", exact_number(k.energy_fudge)};
+    case KnobField::map_mode: return {"--projection-map", map_mode_name(k.projection_map)};
+    case KnobField::granularity: return {"--caustic-pm-gran", std::to_string(k.pm_granularity)};
+    case KnobField::only: return k.photons_only ? std::vector<std::string>{"--draw-caustics-only"} : std::vector<std::string>{};
+    case KnobField::dots: return k.photon_dots ? std::vector<std::string>{"--draw-caustic-map"} : std::vector<std::string>{};
+    case KnobField::integrator: return {"--integrator", knob_value_text(k, field)};
+    case KnobField::gi: return k.gi ? std::vector<std::string>{"--gi"} : std::vector<std::string>{};
+    case KnobField::gi_photons: return {"--gi-num-photons", std::to_string(k.gi_photons)};
+    case KnobField::gi_neighbours: return {"--gi-num-neighbours", std::to_string(k.gi_neighbours)};
+    }
+    return {};
+}
 
 CausticKnobs CausticKnobs::from(const Options& o) {
     CausticKnobs k;

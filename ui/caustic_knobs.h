@@ -5,6 +5,8 @@
 #include "core/scene/options.h"
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace caustica::ui {
 
@@ -32,9 +34,53 @@ struct CausticKnobs {
     bool operator==(const CausticKnobs&) const = default;
 };
 
+/// One knob: its bit in KnobOverrides and how the panel and the command line name it.
+enum class KnobField : std::uint32_t {
+    photons = 1u << 0,
+    unit = 1u << 1,
+    neighbours = 1u << 2,
+    max_dist = 1u << 3,
+    fudge = 1u << 4,
+    map_mode = 1u << 5,
+    granularity = 1u << 6,
+    only = 1u << 7,
+    dots = 1u << 8,
+    integrator = 1u << 9,
+    gi = 1u << 10,
+    gi_photons = 1u << 11,
+    gi_neighbours = 1u << 12,
+};
+
+/// Every knob field, in the panel's order.
+inline constexpr KnobField all_knob_fields[] = {
+    KnobField::integrator, KnobField::photons,  KnobField::unit, KnobField::neighbours,  KnobField::max_dist,
+    KnobField::fudge,      KnobField::map_mode, KnobField::granularity, KnobField::only, KnobField::dots,
+    KnobField::gi,         KnobField::gi_photons, KnobField::gi_neighbours,
+};
+
+/// The panel's name of a knob ("photons").
+const char* knob_label(KnobField field);
+/// The field's value in `knobs` as the panel shows it ("1e+07", "progressive", "on").
+std::string knob_value_text(const CausticKnobs& knobs, KnobField field);
+/// Whether the field differs between `a` and `b`.
+bool knob_differs(const CausticKnobs& a, const CausticKnobs& b, KnobField field);
+/// Command-line tokens that set the field to its value in `knobs` over options that have
+/// `base`'s value (e.g. {"--caustic-num-photons", "10000"}); empty when no option can (a debug
+/// view switched off: the options have no "--no-..." form). Reals are written so that they read
+/// back bit-identical.
+std::vector<std::string> knob_tokens(const CausticKnobs& knobs, const CausticKnobs& base, KnobField field);
+
+/// A double as the shortest text that reads back as the same double.
+std::string exact_number(double value);
+
 /// The knobs the person has set (bit per field), over the script's values.
 class KnobOverrides {
 public:
+    /// Forgets the person's value of one field.
+    void clear(KnobField field) { mask_ &= ~static_cast<std::uint32_t>(field); }
+    /// Whether the person set this field.
+    bool has(KnobField field) const { return (mask_ & static_cast<std::uint32_t>(field)) != 0; }
+    bool operator==(const KnobOverrides&) const = default;
     /// Records every field where `edited` differs from `current` as set by the person.
     void record(const CausticKnobs& current, const CausticKnobs& edited);
     /// The script's knobs with the person's values in the fields they set.

@@ -4,7 +4,11 @@
 
 #include <imgui.h>
 
+#include "ui/key_events.h"
+#include "ui/keys.h"
+
 #include <filesystem>
+#include <optional>
 
 namespace caustica::ui {
 namespace {
@@ -73,7 +77,14 @@ void help_window(PanelState& state, glm::vec2 area) {
         {"E / Shift+E", "exposure up / down one stop (0: reset with Ctrl+E)"},
         {"G", "sRGB display"},
         {"F5", "reload the scene (it also reloads by itself)"},
-        {"Ctrl+S", "save the PNG"},
+        {"Ctrl+S", "save the image (while rendering: now or when done)"},
+        {"Ctrl+Z / Ctrl+Shift+Z, Ctrl+Y", "undo / redo a change of the knobs, preset or stopping rules"},
+        {"Tab / the >> button", "hide or show the sidebar (the image takes the whole window)"},
+        {"Ctrl+wheel", "zoom the image about the cursor (whole factors above 1:1, sharp pixels)"},
+        {"Ctrl+left drag", "move the zoomed image"},
+        {"F / 1", "fit the image / pixels 1:1"},
+        {"B", "snapshot the image as the A/B reference"},
+        {"A", "compare: off, split, difference, relative error (drag the split line)"},
         {"drop a .lua file", "open it"},
         {"F1, H", "this help"},
         {"Esc", "close this help"},
@@ -92,28 +103,86 @@ void help_window(PanelState& state, glm::vec2 area) {
     ImGui::End();
 }
 
+/// Enter (either key) and Esc in a question: taps shorter than a frame count too (ui/key_events.h).
+/// Keys count from the frame after a question opened: the Enter that answered the previous
+/// question (save now -> the file exists) must not answer this one too.
+bool keys_for_question(const PanelState& state) { return ImGui::GetFrameCount() > state.question_frame; }
+bool enter_pressed(const PanelState& state) {
+    return keys_for_question(state) && (key_events().pressed(keys::enter) || key_events().pressed(keys::keypad_enter));
+}
+bool escape_pressed(const PanelState& state) { return keys_for_question(state) && key_events().pressed(keys::escape); }
+
 void overwrite_question(ViewModel& model, PanelState& state) {
     if (state.ask_overwrite) {
         ImGui::OpenPopup("Replace the file?");
         state.ask_overwrite = false;
+        state.question_frame = ImGui::GetFrameCount();
     }
     if (!ImGui::BeginPopupModal("Replace the file?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
     ImGui::Text("%s exists. Replace it?", state.save_path.data());
-    if (ImGui::Button("Replace")) {
-        show_message(state, model.save(state.save_path.data(), true).message);
+    if (ImGui::Button("Replace (Enter)") || enter_pressed(state)) {
+        if (state.overwrite_when_done) {
+            model.save_when_done(state.save_path.data(), true);
+            show_message(state, std::string("will replace ") + state.save_path.data() + " when the render is done");
+        } else {
+            const SaveResult result = model.save(state.save_path.data(), true);
+            show_message(state, saved_message(model, result), result.outcome != SaveOutcome::written);
+        }
         ImGui::CloseCurrentPopup();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    if (ImGui::Button("Cancel (Esc)") || escape_pressed(state)) ImGui::CloseCurrentPopup();
     ImGui::EndPopup();
 }
 
-void message(PanelState& state, glm::vec2 area) {
+/// While a render is in progress, Save asks: the passes so far, or once the render is done.
+void save_choice(ViewModel& model, PanelState& state) {
+    if (state.ask_save_choice) {
+        ImGui::OpenPopup("Save while rendering");
+        state.ask_save_choice = false;
+        state.question_frame = ImGui::GetFrameCount();
+    }
+    if (!ImGui::BeginPopupModal("Save while rendering", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+    ImGui::Text("The render of %s is in progress.", state.save_path.data());
+    const std::string now = "Save now (" + model.passes_text() + ") (Enter)";
+    if (ImGui::Button(now.c_str()) || enter_pressed(state)) {
+        ImGui::CloseCurrentPopup();
+        save_now(model, state);
+    }
+    ImGui::SameLine();
+    const bool ends = model.render_ends();
+    ImGui::BeginDisabled(!ends);
+    if (ImGui::Button("Save when done")) {
+        ImGui::CloseCurrentPopup();
+        save_when_done(model, state);
+    }
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel (Esc)") || escape_pressed(state)) ImGui::CloseCurrentPopup();
+    if (!ends)
+        ImGui::TextDisabled("The progressive preview refines until paused: it is never done.\n"
+                            "Set a pass or time limit (or pause) to save a finished image.");
+    ImGui::EndPopup();
+}
+
+void message(ViewModel& model, PanelState& state, glm::vec2 area) {
+    if (std::optional<SaveResult> scheduled = model.take_scheduled_result())
+        show_message(state, saved_message(model, *scheduled), scheduled->outcome != SaveOutcome::written);
+    if (!model.scheduled_save().empty() && (state.message.empty() || ImGui::GetTime() > state.message_until))
+        show_message(state, "will save " + model.scheduled_save() + " when the render is done");
     if (state.message.empty() || ImGui::GetTime() > state.message_until) return;
     ImGui::SetNextWindowPos(ImVec2(8.0f, area.y - 8.0f), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
-    ImGui::SetNextWindowBgAlpha(0.75f);
-    ImGui::Begin("##message", nullptr, floating | ImGuiWindowFlags_NoInputs);
+    ImGui::SetNextWindowBgAlpha(0.8f);
+    ImGui::Begin("##message", nullptr, floating);
     ImGui::TextUnformatted(state.message.c_str());
+    if (!model.scheduled_save().empty() && state.message.rfind("will ", 0) == 0) {
+        if (ImGui::SmallButton("cancel the save")) {
+            model.cancel_scheduled_save();
+            state.message.clear();
+        }
+        ImGui::SameLine();
+    }
+    if (ImGui::SmallButton("dismiss")) state.message.clear();
     ImGui::End();
 }
 
@@ -130,12 +199,13 @@ void empty_hint(const ViewModel& model, glm::vec2 area) {
 }  // namespace
 
 void draw_image_overlays(ViewModel& model, PanelState& state, const ImageLayout&, glm::vec2 window) {
-    const glm::vec2 area(window.x - sidebar_width, window.y);
+    const glm::vec2 area(state.image_area_width > 0.0f ? state.image_area_width : window.x - sidebar_width, window.y);
     status_line(model);
     error_banner(model, area);
     empty_hint(model, area);
-    message(state, area);
+    message(model, state, area);
     help_window(state, area);
+    save_choice(model, state);
     overwrite_question(model, state);
 }
 

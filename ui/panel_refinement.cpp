@@ -71,7 +71,7 @@ void photon_progress_bar(const SessionProgress& p, float width) {
     ImGui::ProgressBar(static_cast<float>(std::min(1.0, done / total)), ImVec2(width, 0.0f), caption.c_str());
 }
 
-void draw_refinement_controls(ViewModel& model) {
+void draw_refinement_controls(ViewModel& model, PanelState& state) {
     const PreviewDriver& driver = model.driver();
     const bool paused = model.paused();
     ImGui::BeginDisabled(!paused && !driver.busy());
@@ -82,19 +82,40 @@ void draw_refinement_controls(ViewModel& model) {
     ImGui::SameLine();
     ImGui::TextDisabled("%s", render_state(model).c_str());
 
-    // Applied on Enter: each change continues the accumulation under the new rules.
+    // Applied on Enter: each change continues the accumulation under the new rules. A value out of
+    // the option's range is refused with the option's own message, never clamped.
     StopRules rules = model.stop_rules();
     const ImGuiInputTextFlags on_enter = ImGuiInputTextFlags_EnterReturnsTrue;
-    if (ImGui::InputInt("pass limit (0=none)", &rules.passes, 1, 10, on_enter)) rules.passes = std::max(0, rules.passes);
+    auto check = [&](const char* option, const std::string& value) {
+        try {
+            Options probe;
+            apply_option_tokens(probe, {std::string("--") + option, value});
+            state.rules_error.clear();
+            return true;
+        } catch (const std::exception& e) {
+            state.rules_error = e.what();
+            return false;
+        }
+    };
+    int passes = rules.passes;
+    if (ImGui::InputInt("pass limit (0=none)", &passes, 1, 10, on_enter) && check("passes", std::to_string(passes)))
+        rules.passes = passes;
     hint("stop after this many passes (0 = no limit); Enter applies. Never restarts the accumulation");
-    ImGui::InputDouble("time limit (0=none)", &rules.time_limit, 1.0, 10.0, "%.1f s", on_enter);
+    double time_limit = rules.time_limit;
+    if (ImGui::InputDouble("time limit (0=none)", &time_limit, 1.0, 10.0, "%.1f s", on_enter) &&
+        check("time", exact_number(time_limit)))
+        rules.time_limit = time_limit;
     hint("seconds of rendering after which no pass starts (0 = no limit); Enter applies");
     double percent = 100.0 * rules.target_error;
-    if (ImGui::InputDouble("target error (0=none)", &percent, 0.5, 5.0, "%.2f %%", on_enter))
+    if (ImGui::InputDouble("target error (0=none)", &percent, 0.5, 5.0, "%.2f %%", on_enter) &&
+        check("target-error", exact_number(percent / 100.0)))
         rules.target_error = percent / 100.0;
     hint("stop once the estimated relative error over the caustics is below this (0 = none); Enter applies");
-    rules.time_limit = std::max(0.0, rules.time_limit);
-    rules.target_error = std::clamp(rules.target_error, 0.0, 10.0);
+    if (!state.rules_error.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s (not applied)", state.rules_error.c_str());
+        ImGui::PopTextWrapPos();
+    }
     model.set_stop_rules(rules);
 }
 

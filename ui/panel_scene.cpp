@@ -29,6 +29,38 @@ void scene_list(ViewModel& model, PanelState& state, const char* id, const std::
     ImGui::EndListBox();
 }
 
+/// The options of this scene: those given on the command line for it (later scenes start from
+/// their own gr.option calls), and --a4 per scene with a hint for course scenes rendered without.
+void scene_options(ViewModel& model) {
+    std::string tokens;
+    for (const std::string& t : model.scene_tokens())
+        if (t != "--a4") tokens += (tokens.empty() ? "" : " ") + t;
+    if (!tokens.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("options for this scene: %s (from the command line)", tokens.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    const std::string origin = model.a4_origin();
+    bool a4 = !origin.empty();
+    const bool scripted = origin.rfind("gr.option", 0) == 0 || origin == "the script";
+    ImGui::BeginDisabled(scripted);
+    if (ImGui::Checkbox("--a4 course conventions", &a4)) model.set_a4(a4);
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("CS488 A4 conventions for this scene only: transforms act in the order written, gr.cube is "
+                          "the unit cube [0,1]^3. Rebuilds the scene");
+    if (!origin.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("  --a4 from %s", origin.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    if (!model.a4_hint().empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", model.a4_hint().c_str());
+        ImGui::PopTextWrapPos();
+    }
+}
+
 }  // namespace
 
 void draw_scene_section(ViewModel& model, PanelState& state) {
@@ -63,6 +95,7 @@ void draw_scene_section(ViewModel& model, PanelState& state) {
         int index = model.render_index() + 1;
         if (ImGui::SliderInt("gr.render call", &index, 1, model.render_count())) model.select_render(index - 1);
     }
+    if (model.has_scene()) scene_options(model);
     const std::vector<std::string> warnings = model.warnings();
     if (!warnings.empty() && ImGui::TreeNode("warnings", "%zu warning%s", warnings.size(), warnings.size() == 1 ? "" : "s")) {
         for (const std::string& w : warnings) ImGui::TextWrapped("%s", w.c_str());

@@ -4,6 +4,7 @@
 #include <imgui.h>
 
 #include <cstring>
+#include <filesystem>
 
 namespace caustica::ui {
 
@@ -23,16 +24,23 @@ void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window) {
     ImGui::Begin("caustica preview", nullptr, flags);
     ImGui::PushItemWidth(-150.0f);  // room for the labels on the right
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) draw_scene_section(model, state);
+    const std::size_t differing = model.differences().size();
+    const std::string differs = "Differs from the scene (" + std::to_string(differing) + ")###differs";
+    if (ImGui::CollapsingHeader(differs.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) draw_differences_section(model);
     if (ImGui::CollapsingHeader("Light transport and caustics", ImGuiTreeNodeFlags_DefaultOpen)) draw_caustics_section(model, state);
     if (ImGui::CollapsingHeader("View and save")) draw_view_section(model, state);
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) draw_stats_section(model, state);
     ImGui::PopItemWidth();
+    // Changes made while a widget is held (a slider dragged) are one undo step; set here too, so
+    // that a folded section cannot leave it on.
+    model.set_coalescing(ImGui::IsAnyItemActive());
     ImGui::End();
 }
 
-void show_message(PanelState& state, const std::string& text) {
+void show_message(PanelState& state, const std::string& text, bool sticky) {
     state.message = text;
-    state.message_until = ImGui::GetTime() + 4.0;
+    state.message_sticky = sticky;
+    state.message_until = ImGui::GetTime() + (sticky ? 1e9 : 6.0);
 }
 
 void request_save(ViewModel& model, PanelState& state) {
@@ -40,9 +48,38 @@ void request_save(ViewModel& model, PanelState& state) {
         const std::string proposed = model.default_save_path();
         std::strncpy(state.save_path.data(), proposed.c_str(), state.save_path.size() - 1);
     }
+    if (model.rendering()) {  // a partial image: ask whether now or once the render is done
+        state.ask_save_choice = true;
+        return;
+    }
+    save_now(model, state);
+}
+
+void save_now(ViewModel& model, PanelState& state) {
     const SaveResult result = model.save(state.save_path.data(), false);
-    if (result.outcome == SaveOutcome::exists) state.ask_overwrite = true;
-    else show_message(state, result.message);
+    if (result.outcome == SaveOutcome::exists) {
+        state.overwrite_when_done = false;
+        state.ask_overwrite = true;
+    } else {
+        show_message(state, saved_message(model, result), result.outcome != SaveOutcome::written);
+    }
+}
+
+void save_when_done(ViewModel& model, PanelState& state) {
+    std::error_code ec;
+    if (std::filesystem::exists(state.save_path.data(), ec)) {  // ask now, not when the render ends
+        state.overwrite_when_done = true;
+        state.ask_overwrite = true;
+        return;
+    }
+    model.save_when_done(state.save_path.data(), false);
+    show_message(state, std::string("will save ") + state.save_path.data() + " when the render is done");
+}
+
+std::string saved_message(const ViewModel& model, const SaveResult& result) {
+    if (result.outcome != SaveOutcome::written || result.message.find(model.last_saved()) != std::string::npos)
+        return result.message;  // save_preview_image names the absolute path itself
+    return result.message + "\nfull path: " + model.last_saved();
 }
 
 }  // namespace caustica::ui

@@ -24,7 +24,8 @@ void stage_row(const PreviewDriver& driver, const char* label, const char* name)
     ImGui::TableNextColumn();
     ImGui::TextUnformatted(label);
     ImGui::TableNextColumn();
-    if (computed) ImGui::Text("%9.1f ms", 1e3 * computed->seconds);
+    // Only stages this render has: a scene without photons shows no photon times of another one.
+    if (computed && now) ImGui::Text("%9.1f ms", 1e3 * computed->seconds);
     else ImGui::TextDisabled("-");
     ImGui::TableNextColumn();
     if (now && now->cached) ImGui::TextDisabled("cached");
@@ -46,10 +47,17 @@ void draw_stats_section(const ViewModel& model, const PanelState& state) {
             ImGui::TextDisabled("  projection map: %.1f%% of the sphere, of %lld", 100.0 * c.occupied_fraction,
                                 c.candidates);
     }
-    if (stats.caustic_photons > 0)
+    if (stats.caustic_photons > 0) {
         ImGui::Text("photon map: %zu photons, %.1f MiB", stats.caustic_photons, stats.caustic_map_bytes / 1048576.0);
-    else
-        ImGui::TextDisabled("no caustic photons");
+    } else {
+        const std::string why = model.photons_note();
+        if (why.empty()) ImGui::TextDisabled("no caustic photons");
+        else {
+            ImGui::PushTextWrapPos(0.0f);
+            ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", why.c_str());
+            ImGui::PopTextWrapPos();
+        }
+    }
 
     if (ImGui::BeginTable("stages", 3)) {
         ImGui::TableSetupColumn("stage", ImGuiTableColumnFlags_WidthStretch);
@@ -103,7 +111,11 @@ void draw_stats_section(const ViewModel& model, const PanelState& state) {
                              *std::max_element(times.begin(), times.end()) * 1.1f,
                              ImVec2(ImGui::GetContentRegionAvail().x, 48.0f));
     }
-    ImGui::TextDisabled("UI %.0f fps (model and panels %.1f ms a frame)", ImGui::GetIO().Framerate, state.ui_frame_ms);
+    // The frame rate only means something while frames are being made for a render or a change.
+    if (driver.busy() || model.changes_pending() || model.loading())
+        ImGui::TextDisabled("UI %.0f fps (model and panels %.1f ms a frame)", ImGui::GetIO().Framerate, state.ui_frame_ms);
+    else
+        ImGui::TextDisabled("UI idle (model and panels %.1f ms a frame)", state.ui_frame_ms);
     ImGui::TextDisabled("%zu renders started, longest restart %.1f ms", static_cast<std::size_t>(driver.restarts()),
                         1e3 * driver.longest_restart_seconds());
 }

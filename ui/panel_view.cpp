@@ -4,9 +4,54 @@
 #include <imgui.h>
 
 #include <cstring>
+#include <filesystem>
 #include <thread>
 
 namespace caustica::ui {
+namespace {
+
+void hint(const char* text) {
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+/// Named cameras of this scene: save the one shown, go to one, delete one.
+void bookmarks(ViewModel& model, PanelState& state) {
+    if (!ImGui::TreeNode("camera bookmarks")) return;
+    const std::string scene = model.scene_path().empty()
+                                  ? std::string()
+                                  : std::filesystem::weakly_canonical(std::filesystem::absolute(model.scene_path())).string();
+    ImGui::PushItemWidth(-90.0f);
+    const bool entered = ImGui::InputTextWithHint("##bookmark", "name", state.bookmark_name.data(), state.bookmark_name.size(),
+                                                  ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::PopItemWidth();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!model.has_scene());
+    if ((ImGui::Button("Bookmark") || entered) && model.has_scene() &&
+        model.bookmarks().set(scene, state.bookmark_name.data(), model.orbit_camera().desc()))
+        state.bookmark_name[0] = '\0';
+    ImGui::EndDisabled();
+    for (const auto& [name, camera] : model.bookmarks().of(scene)) {
+        ImGui::PushID(name.c_str());
+        if (ImGui::SmallButton("go to")) model.go_to_camera(camera);
+        ImGui::SameLine();
+        const bool remove = ImGui::SmallButton("delete");
+        ImGui::SameLine();
+        ImGui::TextUnformatted(name.c_str());
+        ImGui::PopID();
+        if (remove) {
+            model.bookmarks().remove(scene, name);
+            break;  // the list changed under the loop
+        }
+    }
+    if (!model.bookmarks().warning().empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "%s", model.bookmarks().warning().c_str());
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::TreePop();
+}
+
+}  // namespace
 
 void draw_view_section(ViewModel& model, PanelState& state) {
     const OrbitCamera& orbit = model.orbit_camera();
@@ -15,7 +60,20 @@ void draw_view_section(ViewModel& model, PanelState& state) {
     ImGui::Text("target %8.3f %8.3f %8.3f", target.x, target.y, target.z);
     if (ImGui::Button("script camera (R)")) model.reset_camera();
     ImGui::SameLine();
+    if (ImGui::Button("Copy camera")) {
+        state.camera_text = model.camera_text();
+        ImGui::SetClipboardText(state.camera_text.c_str());
+    }
+    hint("copies the camera shown as gr.render's eye, view, up and angle, to paste into the script "
+         "(the command line has no camera option)");
+    ImGui::SameLine();
     ImGui::TextDisabled(orbit.moved() ? "moved" : "as scripted");
+    if (!state.camera_text.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("copied: %s", state.camera_text.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    bookmarks(model, state);
 
     ImGui::Separator();
     DisplaySettings& display = model.display();
@@ -43,7 +101,19 @@ void draw_view_section(ViewModel& model, PanelState& state) {
     ImGui::PopItemWidth();
     ImGui::SameLine();
     if (ImGui::Button("Save")) request_save(model, state);
-    ImGui::TextDisabled("PNG of the current samples (Ctrl+S)");
+    ImGui::TextDisabled("PNG, EXR or PFM by the extension: the current samples and the camera shown (Ctrl+S)");
+    ImGui::Checkbox("PNG: apply the display exposure", &model.display().exposure_to_png);
+    hint("off: the PNG holds what `caustica render` writes; on: the exposure above is added to the job's --exposure");
+    if (!model.scheduled_save().empty()) {
+        ImGui::TextDisabled("saves %s when the render is done", model.scheduled_save().c_str());
+        ImGui::SameLine();
+        if (ImGui::SmallButton("cancel")) model.cancel_scheduled_save();
+    }
+    if (!model.last_saved().empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("last saved: %s", model.last_saved().c_str());
+        ImGui::PopTextWrapPos();
+    }
 }
 
 }  // namespace caustica::ui

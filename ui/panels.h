@@ -7,6 +7,7 @@
 #include "ui/view_model.h"
 
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,27 @@ struct PanelState {
     std::vector<std::string> scene_files; ///< listing of the Open panel
     double scene_files_at = -1e9;         ///< when it was listed
     float ui_frame_ms = 0.0f;             ///< the last UI frame's CPU time, for the statistics
+
+    /// A field where a knob's value is typed (checked on Enter, never clamped).
+    struct TypedField {
+        std::array<char, 64> text{};
+        bool editing = false;   ///< the text is the person's, not the knob's value
+        std::string error;      ///< why the typed value was not applied
+        std::string error_value;  ///< the knob's value then: the error goes when the knob changes
+    };
+    std::map<std::string, TypedField> typed;
+    std::string rules_error;              ///< why a typed stopping rule was not applied
+
+    // Saving
+    bool ask_save_choice = false;         ///< open the "save now / when done" question next frame
+    bool overwrite_when_done = false;     ///< the overwrite question is for a save when done
+    bool message_sticky = false;          ///< the message stays until dismissed
+    int question_frame = -1;              ///< ImGui frame in which the last question opened
+    float image_area_width = 0.0f;        ///< width of the image area; 0 = the window's minus the sidebar
+
+    // Camera
+    std::array<char, 64> bookmark_name{};
+    std::string camera_text;              ///< the last copied camera, shown under the button
 };
 
 /// The panels' look: ImGui's dark colours, a little tighter so that every section fits 720 pixels.
@@ -40,13 +62,15 @@ void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window);
 void draw_scene_section(ViewModel& model, PanelState& state);
 /// Caustics section: the knobs, views and the projection-map overlay settings.
 void draw_caustics_section(ViewModel& model, PanelState& state);
+/// What differs from `caustica render SCENE`: a reset per row, reset all, the command line.
+void draw_differences_section(ViewModel& model);
 /// View section: camera, display, resolution and threads, saving.
 void draw_view_section(ViewModel& model, PanelState& state);
 /// Statistics section: photons, stage times, passes, samples, rays/s, time per pass.
 void draw_stats_section(const ViewModel& model, const PanelState& state);
 
 /// Progressive refinement: Pause/Resume and the stopping rules (pass limit, time, target error).
-void draw_refinement_controls(ViewModel& model);
+void draw_refinement_controls(ViewModel& model, PanelState& state);
 /// "37 of 100 passes  |  370M photons  |  37 spp  |  est. error 4.2% (...)  |  radius 0.031".
 std::string refinement_summary(const SessionProgress& accumulation);
 /// What the render does, in words: "refining", "paused", "shooting photons", "stopped by the pass limit".
@@ -59,10 +83,18 @@ void photon_progress_bar(const SessionProgress& progress, float width);
 /// Status line, error banner, help, overwrite question and messages over the image area.
 void draw_image_overlays(ViewModel& model, PanelState& state, const ImageLayout& layout, glm::vec2 window);
 
-/// Saves to the Save field's path, asking before replacing a file (Save button and Ctrl+S).
+/// Saves to the Save field's path (Save button and Ctrl+S): while rendering it asks whether to save
+/// now (the passes so far) or when done; asks before replacing a file.
 void request_save(ViewModel& model, PanelState& state);
 
-/// Shows a passing message for a few seconds.
-void show_message(PanelState& state, const std::string& text);
+/// Saves the shown samples now (asking before replacing a file).
+void save_now(ViewModel& model, PanelState& state);
+/// Saves once the render has finished (asking now before replacing a file).
+void save_when_done(ViewModel& model, PanelState& state);
+/// A save's message with the full path written.
+std::string saved_message(const ViewModel& model, const SaveResult& result);
+
+/// Shows a passing message for a few seconds (`sticky`: until dismissed).
+void show_message(PanelState& state, const std::string& text, bool sticky = false);
 
 }  // namespace caustica::ui

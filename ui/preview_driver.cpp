@@ -142,11 +142,34 @@ void PreviewDriver::advance(bool spin) {
         else if (resume_due_ && progress_.cancelled) continue_accumulation();  // not after an error or an end
         resume_due_ = false;
     }
-    if (!maps_refreshed_ && maps_final()) refresh_maps();
+    if (!maps_refreshed_ && !stats_forgotten_ && maps_final()) refresh_maps();
+}
+
+void PreviewDriver::forget_scene() {
+    stats_forgotten_ = true;  // the session still holds the old render's until the next one starts
+    stats_ = {};
+    pass_history_.clear();
+    computed_stages_.clear();
+    if (!maps_.empty()) {
+        maps_.clear();
+        ++maps_version_;
+    }
 }
 
 void PreviewDriver::poll_stats() {
+    if (stats_forgotten_) return;
     stats_ = session_.stats();
+    // The session keeps the last photon pass's numbers until this render's photon stage has run
+    // (or reused them: "photon pass", cached): before that they may be another scene's.
+    const bool photons_known = std::any_of(stats_.stages.begin(), stats_.stages.end(), [](const StageTime& s) {
+        return s.name == "photon pass" || s.name == "photon shooting";
+    });
+    if (!photons_known) {
+        stats_.caustic_lights.clear();
+        stats_.caustic_photons = stats_.caustic_map_bytes = 0;
+        stats_.gi_lights.clear();
+        stats_.gi_photons = stats_.gi_map_bytes = 0;
+    }
     for (const StageTime& s : stats_.stages) {
         if (s.cached || is_pass(s.name) || s.name == "progressive passes") continue;
         auto it = std::find_if(computed_stages_.begin(), computed_stages_.end(),
@@ -171,7 +194,7 @@ void PreviewDriver::collect() {
         if (is_pass(s.name)) passes.push_back(&s);
     if (progress_.cancelled && !passes.empty()) passes.pop_back();
     for (const StageTime* s : passes) record_pass(s->name, s->seconds);
-    if (progress_.finished) refresh_maps();
+    if (progress_.finished && !stats_forgotten_) refresh_maps();
 }
 
 void PreviewDriver::refresh_maps() {
@@ -201,6 +224,7 @@ void PreviewDriver::restart() {
     }
     accumulation_ = {};
     maps_refreshed_ = false;
+    stats_forgotten_ = false;
     started_ = true;
     collected_ = false;
     cancel_sent_ = false;

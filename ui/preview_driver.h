@@ -118,6 +118,10 @@ public:
     /// Whether the current render is between start and collection.
     bool busy() const { return started_ && !collected_; }
 
+    /// Forgets what belongs to the previous scene (statistics, stage and pass times, projection
+    /// maps) when another scene is opened: its numbers never show for the new one.
+    void forget_scene();
+
     /// The error of the last render that failed (scene errors found while preparing), once.
     std::optional<std::string> take_error();
 
@@ -163,6 +167,7 @@ private:
     std::optional<RenderJob> pending_;
     bool started_ = false, collected_ = true, cancel_sent_ = false;
     bool paused_ = false, resume_due_ = false, maps_refreshed_ = false;
+    bool stats_forgotten_ = false;  // forget_scene(): no statistics until the next render starts
     std::optional<StopRules> new_rules_;
     double started_at_ = 0.0, stats_polled_at_ = 0.0;
     double pass_clock_ = 0.0;  // when the accumulation's pass count last changed (or it started)

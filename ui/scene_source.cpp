@@ -3,6 +3,9 @@
 #include "core/scene/source_location.h"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -40,6 +43,14 @@ std::string absolute_path(const std::string& path) {
     std::error_code ec;
     const fs::path p = fs::weakly_canonical(fs::absolute(path), ec);
     return ec ? path : p.string();
+}
+
+/// A file's size; 0 for a folder (watched for files created in it) or what cannot be read.
+std::uintmax_t size_of(const fs::path& path) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) return 0;
+    const std::uintmax_t size = fs::file_size(path, ec);
+    return ec ? 0 : size;
 }
 
 }  // namespace
@@ -85,7 +96,7 @@ void SceneSource::watch(const std::string& script, const std::vector<std::string
         std::error_code ec;
         Watched w{f, fs::last_write_time(f, ec), 0};
         if (ec) continue;
-        w.size = fs::file_size(f, ec);
+        w.size = size_of(f);
         watched_.push_back(w);
     }
     checked_at_ = now_seconds();
@@ -99,8 +110,7 @@ bool SceneSource::changed_on_disk() {
         std::error_code ec;
         const auto time = fs::last_write_time(w.path, ec);
         if (ec) continue;  // being replaced by an editor: look again next time
-        const auto size = fs::file_size(w.path, ec);
-        if (!ec && (time != w.time || size != w.size)) return true;
+        if (time != w.time || size_of(w.path) != w.size) return true;
     }
     return false;
 }
@@ -135,6 +145,120 @@ std::vector<std::string> SceneSource::scene_files(const std::string& current) co
     scan("scenes", 1);
     if (!current.empty()) scan(fs::path(current).parent_path().empty() ? fs::path(".") : fs::path(current).parent_path(), 0);
     return {files.begin(), files.end()};
+}
+
+// --- camera bookmarks
+
+namespace {
+
+std::string number(double v) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.17g", v);
+    return text;
+}
+
+/// Reads "ex ey ez vx vy vz ux uy uz fov"; false unless all ten are finite, view and up are not
+/// zero and the angle lies in (0, 180).
+bool parse_camera(const std::string& text, CameraDesc& camera) {
+    double v[10];
+    const char* p = text.data();
+    const char* end = text.data() + text.size();
+    for (double& x : v) {
+        while (p < end && *p == ' ') ++p;
+        const auto [next, ec] = std::from_chars(p, end, x);
+        if (ec != std::errc() || !std::isfinite(x)) return false;
+        p = next;
+    }
+    while (p < end && *p == ' ') ++p;
+    if (p != end) return false;
+    camera.eye = {v[0], v[1], v[2]};
+    camera.view = {v[3], v[4], v[5]};
+    camera.up = {v[6], v[7], v[8]};
+    camera.fovy_degrees = v[9];
+    return glm::length(camera.view) > 0.0 && glm::length(camera.up) > 0.0 && v[9] > 0.0 && v[9] < 180.0;
+}
+
+}  // namespace
+
+CameraBookmarks::CameraBookmarks(std::string file) : file_(std::move(file)) {
+    if (file_.empty()) return;
+    std::error_code ec;
+    if (!fs::exists(file_, ec)) return;
+    const std::uintmax_t size = fs::file_size(file_, ec);
+    if (ec || size > (1u << 20)) {
+        warning_ = file_ + ": " + (ec ? "cannot be read" : "larger than 1 MiB") + "; camera bookmarks ignored";
+        return;
+    }
+    std::ifstream in(file_);
+    int line_number = 0, bad = 0, first_bad = 0;
+    for (std::string line; std::getline(in, line);) {
+        ++line_number;
+        if (line.empty()) continue;
+        const std::size_t a = line.find('\t'), b = a == std::string::npos ? a : line.find('\t', a + 1);
+        Entry e;
+        if (b == std::string::npos || a == 0 || b == a + 1 || !parse_camera(line.substr(b + 1), e.camera)) {
+            if (bad++ == 0) first_bad = line_number;
+            continue;
+        }
+        e.scene = line.substr(0, a);
+        e.name = line.substr(a + 1, b - a - 1);
+        entries_.push_back(std::move(e));
+    }
+    if (bad > 0)
+        warning_ = file_ + ": " + std::to_string(bad) + " unreadable line" + (bad == 1 ? "" : "s") + " ignored (first: line " +
+                   std::to_string(first_bad) + ")";
+}
+
+std::vector<std::pair<std::string, CameraDesc>> CameraBookmarks::of(const std::string& scene) const {
+    std::vector<std::pair<std::string, CameraDesc>> found;
+    for (const Entry& e : entries_)
+        if (e.scene == scene) found.emplace_back(e.name, e.camera);
+    return found;
+}
+
+bool CameraBookmarks::set(const std::string& scene, std::string name, const CameraDesc& camera) {
+    for (char& c : name)
+        if (c == '\t' || c == '\n' || c == '\r') c = ' ';
+    if (name.find_first_not_of(' ') == std::string::npos) return false;
+    auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.scene == scene && e.name == name; });
+    if (it != entries_.end()) it->camera = camera;
+    else entries_.push_back({scene, name, camera});
+    write();
+    return true;
+}
+
+void CameraBookmarks::remove(const std::string& scene, const std::string& name) {
+    const auto before = entries_.size();
+    std::erase_if(entries_, [&](const Entry& e) { return e.scene == scene && e.name == name; });
+    if (entries_.size() != before) write();
+}
+
+void CameraBookmarks::write() {
+    if (file_.empty()) return;
+    std::error_code ec;
+    fs::create_directories(fs::path(file_).parent_path(), ec);
+    const std::string temporary = file_ + ".tmp";
+    {
+        std::ofstream out(temporary, std::ios::trunc);
+        for (const Entry& e : entries_) {
+            const CameraDesc& c = e.camera;
+            out << e.scene << '\t' << e.name << '\t' << number(c.eye.x) << ' ' << number(c.eye.y) << ' ' << number(c.eye.z)
+                << ' ' << number(c.view.x) << ' ' << number(c.view.y) << ' ' << number(c.view.z) << ' ' << number(c.up.x)
+                << ' ' << number(c.up.y) << ' ' << number(c.up.z) << ' ' << number(c.fovy_degrees) << '\n';
+        }
+        if (!out.flush()) {
+            warning_ = file_ + ": cannot write the camera bookmarks";
+            fs::remove(temporary, ec);
+            return;
+        }
+    }
+    fs::rename(temporary, file_, ec);  // atomic: a reader sees the old file or the new one
+    if (ec) warning_ = file_ + ": cannot write the camera bookmarks (" + ec.message() + ")";
+}
+
+std::string bookmarks_file_beside(const std::string& recent_file) {
+    if (recent_file.empty()) return {};
+    return (fs::path(recent_file).parent_path() / "camera-bookmarks").string();
 }
 
 std::string default_recent_file() {

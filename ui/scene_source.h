@@ -38,7 +38,8 @@ public:
     /// Whether a requested load has not finished yet.
     bool loading() const { return !in_flight_.empty() && in_flight_.back().id == latest_; }
 
-    /// Watches `script` and the files it read (meshes, textures) from their current state on.
+    /// Watches `script` and the files it read (meshes, textures) from their current state on; a
+    /// folder among them counts as changed when a file is created, renamed or removed in it.
     void watch(const std::string& script, const std::vector<std::string>& dependencies);
     /// Whether a watched file changed since watch() (checked at most every quarter second).
     bool changed_on_disk();
@@ -71,6 +72,36 @@ private:
     std::vector<Watched> watched_;
     double checked_at_ = 0.0;
 };
+
+/// Named cameras per scene ("camera bookmarks"), kept between runs in a small text file: one
+/// bookmark a line, "SCENE<TAB>NAME<TAB>ex ey ez vx vy vz ux uy uz fov". The file is written
+/// atomically; a line that cannot be read is skipped with a warning, a file over 1 MiB is ignored.
+class CameraBookmarks {
+public:
+    /// Reads `file` ("" = kept in memory only).
+    explicit CameraBookmarks(std::string file);
+    /// The bookmarks of `scene` (absolute path), in the order they were made.
+    std::vector<std::pair<std::string, CameraDesc>> of(const std::string& scene) const;
+    /// Adds or replaces the bookmark `name` of `scene` and writes the file. Tabs and line breaks in
+    /// the name become spaces; an empty name is refused (false).
+    bool set(const std::string& scene, std::string name, const CameraDesc& camera);
+    /// Removes a bookmark and writes the file.
+    void remove(const std::string& scene, const std::string& name);
+    /// What went wrong reading or writing the file ("" = nothing).
+    const std::string& warning() const { return warning_; }
+
+private:
+    struct Entry {
+        std::string scene, name;
+        CameraDesc camera;
+    };
+    void write();
+    std::string file_, warning_;
+    std::vector<Entry> entries_;
+};
+
+/// Where the bookmarks are kept: "camera-bookmarks" beside the recent list ("" when that is "").
+std::string bookmarks_file_beside(const std::string& recent_file);
 
 /// The default place of the recent list: $XDG_CONFIG_HOME/caustica/recent-scenes, else
 /// ~/.config/caustica/recent-scenes ("" when neither is known).

@@ -111,7 +111,10 @@ std::string view_help() {
            "                     --target-error says when to stop (else --final waits for its first pass)\n"
            "  --size WxH         window size (default 1280x720)\n"
            "  --allow-read DIR   let scenes read files under DIR too (repeatable; a shared texture folder)\n"
-           "Render options ('caustica render --help') apply over the scene's gr.option calls.\n";
+           "Render options ('caustica render --help') apply over the scene's gr.option calls, for\n"
+           "SCENE.lua only: scenes opened later start from their own gr.option calls. The preview\n"
+           "renders what 'caustica render SCENE.lua [options]' renders; its sidebar lists what you\n"
+           "change and copies the equivalent command line.\n";
 }
 
 }  // namespace caustica::ui

@@ -23,7 +23,8 @@ constexpr double scripted_timeout_seconds = 600.0;
 
 ModelConfig model_config(const ViewArguments& args) {
     ModelConfig config;
-    config.option_tokens = args.option_tokens;
+    config.option_tokens = args.option_tokens;  // the scene given with them only (issue 12)
+    config.option_scene = args.scene;
     config.recent_file = default_recent_file();
     Options options;
     apply_option_tokens(options, args.option_tokens);  // --script-timeout applies to every load

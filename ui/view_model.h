@@ -4,6 +4,11 @@
 // is redone (camera: image only; N or max distance: gather only; photons: no BVH rebuild). The
 // progressive integrator refines without limit unless a stopping rule is given (command line,
 // gr.option or the panel); its rules and a pause change nothing else.
+//
+// What you see is what you save (issue 12): a job starts as `caustica render SCENE [options]`
+// composes it (the script's gr.option, then the command-line options given for that scene), and
+// every choice of the person is an override on top, listed by differences(), undoable, and
+// written back as the options of command_line().
 #pragma once
 
 #include "ui/caustic_knobs.h"
@@ -23,10 +28,11 @@ namespace caustica::ui {
 
 /// How the model is set up.
 struct ModelConfig {
-    /// What the preview starts from before the scene's gr.option and the command line: the
-    /// `preview` quality preset, chosen at the knee of the error/time curves (docs/ACCURACY.md).
-    std::vector<std::string> default_tokens = {"--quality", "preview"};
-    std::vector<std::string> option_tokens;  ///< command-line options; they win over gr.option, as in `render`
+    /// Command-line options of `caustica view`: they win over gr.option, as in `render`, and belong
+    /// to `option_scene` only (to the first scene opened when that is ""); scenes opened later start
+    /// from their own gr.option calls, as `caustica render OTHER.lua` would.
+    std::vector<std::string> option_tokens;
+    std::string option_scene;
     std::string recent_file;                 ///< where the recent list is kept ("" = nowhere)
     DriverSettings driver;
     double script_timeout = 60.0;            ///< seconds a scene script may run
@@ -38,6 +44,9 @@ struct ModelConfig {
 struct DisplaySettings {
     float exposure = 0.0f;  ///< stops: the image is multiplied by 2^exposure
     bool srgb = false;      ///< sRGB transfer curve (else clamped linear, as the batch PNG)
+    /// Saving a PNG applies this exposure on top of the job's --exposure (off: the PNG is what
+    /// `caustica render` writes, whatever the display shows).
+    bool exposure_to_png = false;
 };
 
 /// What the projection-map overlay shows.
@@ -48,6 +57,46 @@ struct OverlaySettings {
 
     bool operator==(const OverlaySettings&) const = default;
 };
+
+/// One way the preview differs from what `caustica render SCENE [its options]` would render.
+struct Difference {
+    std::string id;       ///< what reset_difference() takes: "preset", "knob:photons", "stop", "threads", ...
+    std::string label;    ///< "photons"
+    std::string scene;    ///< the value render would use
+    std::string shown;    ///< the preview's
+    std::string note;     ///< e.g. "no command-line option: use Copy camera" ("" = none)
+};
+
+/// The person's choices that undo and redo step through (not the camera).
+struct Choices {
+    CausticKnobs person_knobs;
+    KnobOverrides overrides;
+    std::string preset;                    ///< "" = none, else draft, preview or final (--quality)
+    std::optional<StopRules> stop_rules;   ///< the person's stopping rules
+
+    bool operator==(const Choices&) const = default;
+};
+
+/// The quality presets the picker offers (--quality), "" first for none.
+inline constexpr const char* quality_preset_names[] = {"", "draft", "preview", "final"};
+
+/// The largest caustic photon count per light whose photon map fits the memory the photon pass
+/// allows (60% of the machine's memory, core/photons/photon_tracer.cpp): the photon slider's end.
+long long photon_memory_limit();
+
+/// A gr.render camera as Lua to paste into a script: "{ex, ey, ez}, {vx, vy, vz}, {ux, uy, uz}, fov".
+std::string camera_lua(const CameraDesc& camera);
+
+/// A hint to tick --a4 for a script whose first render puts more of its objects (their origins)
+/// in the camera's view under the course conventions (pre-multiplied transforms, unit cube) than under the seed's it is
+/// rendered with; "" when the conventions agree or the seed's keep as much in view.
+std::string course_scene_hint(const SceneScript& script);
+/// The other way round, for a scene given --a4: a hint to untick it when the seed's conventions put
+/// more objects in view ("" otherwise).
+std::string seed_scene_hint(const SceneScript& script);
+
+/// A path quoted for a POSIX shell when it needs to be.
+std::string shell_quote(const std::string& word);
 
 /// The preview's model.
 class ViewModel {
@@ -107,6 +156,44 @@ public:
     /// Back to the script's knobs.
     void reset_knobs();
 
+    // --- what differs from `caustica render` (issue 12: what you see is what you save)
+    /// The quality preset the person picked ("" = none: the scene's own values).
+    const std::string& preset() const { return inputs_.preset; }
+    /// Picks a preset (applied after the scene's options, before the person's knobs, like
+    /// `render SCENE --quality P --knob ...`). Throws InputError for an unknown name.
+    void set_preset(const std::string& name);
+    /// The options of the scene as `caustica render SCENE [its command-line options]` uses them.
+    Options scene_options() const;
+    /// Everything shown that differs from that render, in panel order.
+    std::vector<Difference> differences() const;
+    /// Takes back one difference (by Difference::id); "all" takes back every one but the camera.
+    void reset_difference(const std::string& id);
+    /// The command-line options of the scene shown (those given to `view` for it, and --a4 as
+    /// ticked), which every render of it starts from.
+    const std::vector<std::string>& scene_tokens() const { return inputs_.tokens; }
+    /// The options the person's choices add after scene_tokens().
+    std::vector<std::string> person_tokens() const;
+    /// `caustica render SCENE.lua --opt ...` that renders what is shown (except what notes() say).
+    std::string command_line() const;
+    /// What the command line cannot reproduce (orbited camera, resolution scale, ...).
+    std::vector<std::string> command_line_notes() const;
+    /// Whether --a4 is in effect for the scene shown, and where it comes from ("" = off).
+    std::string a4_origin() const;
+    /// Ticks or unticks --a4 for the scene shown (a per-scene command-line option; not possible when
+    /// the script's gr.option sets it). Scenes opened later keep their own setting.
+    void set_a4(bool on);
+    /// A hint when the scene looks like a course (CS488 A4) scene rendered without --a4, or like a
+    /// seed-convention scene rendered with it ("" = none).
+    const std::string& a4_hint() const { return a4_hint_; }
+
+    // --- undo and redo of the person's choices (knobs, preset, integrator, stopping rules)
+    void undo();
+    void redo();
+    bool can_undo() const { return !undo_.empty(); }
+    bool can_redo() const { return !redo_.empty(); }
+    /// While on, consecutive changes make one undo step (a slider being dragged).
+    void set_coalescing(bool on);
+
     // --- progressive refinement
     /// The stopping rules of the progressive integrator in effect: the person's, else those of the
     /// command line or gr.option, else none (refine until paused).
@@ -155,6 +242,9 @@ public:
     /// The render driver (image, tiles, progress, statistics).
     const PreviewDriver& driver() const { return driver_; }
     PreviewDriver& driver() { return driver_; }
+    /// "requested N photons, none shot: REASON" when the render asked for caustic photons and its
+    /// statistics show none stored ("" otherwise, and before the render has got that far).
+    std::string photons_note() const;
     /// The job that is rendered next or now (camera, options, size).
     RenderJob current_job() const;
     /// Whether a change has not reached the renderer yet (an edit, a load, a --orbit to apply).
@@ -163,8 +253,32 @@ public:
     // --- saving
     /// The file Save proposes: the script's output name.
     std::string default_save_path() const;
-    /// Saves the shown image (see save_preview_png).
+    /// Saves the shown image as PNG, EXR or PFM by the extension (see save_preview_image).
     SaveResult save(const std::string& path, bool overwrite);
+    /// Whether the render is still in progress (saving now gives a partial image).
+    bool rendering() const;
+    /// Whether the render in progress ends by itself (not a progressive refinement without a rule).
+    bool render_ends() const;
+    /// "3 of 10 passes", "2 passes", "pass 1 of 2": what a save now would hold.
+    std::string passes_text() const;
+    /// Saves once the render in progress has finished (at once when it has).
+    void save_when_done(const std::string& path, bool overwrite);
+    /// The path a save waits for ("" = none); cancel_scheduled_save() drops it.
+    const std::string& scheduled_save() const { return scheduled_save_; }
+    void cancel_scheduled_save() { scheduled_save_.clear(); }
+    /// The outcome of a scheduled save, once.
+    std::optional<SaveResult> take_scheduled_result();
+    /// The absolute path of the last image written ("" = none yet).
+    const std::string& last_saved() const { return last_saved_; }
+
+    // --- camera as text
+    /// The camera shown as gr.render arguments (see camera_lua).
+    std::string camera_text() const { return camera_lua(orbit_.desc()); }
+    /// Moves the camera to `camera` (a bookmark): its eye, view and up; the script's angle stays.
+    void go_to_camera(const CameraDesc& camera);
+    /// Named cameras per scene, kept beside the recent list (ModelConfig::recent_file).
+    CameraBookmarks& bookmarks() { return bookmarks_; }
+    const CameraBookmarks& bookmarks() const { return bookmarks_; }
 
     /// Test hook: how often the session rebuilt the scene, shot photons and rendered.
     RenderSession::StageCounters stage_counters() const { return driver_.session().stage_counters(); }
@@ -175,6 +289,8 @@ private:
         std::shared_ptr<const SceneScript> scene;
         std::string scene_path;
         int render_index = 0;
+        std::vector<std::string> tokens;  ///< the scene's command-line options (view's, --a4 ticked)
+        std::string preset;               ///< the person's --quality ("" = none)
         CausticKnobs person_knobs;
         KnobOverrides overrides;
         int threads = -1;  ///< < 0: as the script and command line say
@@ -182,7 +298,8 @@ private:
     };
 
     RenderJob compose(const JobInputs& inputs) const;
-    CausticKnobs script_knobs(const JobInputs& inputs) const;
+    CausticKnobs script_knobs(const JobInputs& inputs) const;  // the scene's, with the person's preset
+    Options base_options(const JobInputs& inputs, bool with_preset) const;
     CausticKnobs effective_knobs(const JobInputs& inputs) const;
     StopRules stop_rules_for(const RenderJob& script_job, const Options& options) const;  // options: with the command line's
     bool same_inputs(const JobInputs& a, const JobInputs& b) const;
@@ -191,6 +308,12 @@ private:
     void resolve_target();
     void update_overlay();
     void mark_dirty() { dirty_ = true; }
+    Choices choices() const;
+    void restore(const Choices& choices);
+    void record_undo();
+    void forget_choices();  // another scene: start clean
+    void update_a4_hint();
+    std::vector<std::string>& tokens_of(const std::string& path);
 
     ModelConfig config_;
     SceneSource source_;
@@ -200,8 +323,16 @@ private:
     JobInputs inputs_;
     std::optional<JobInputs> running_inputs_, committed_inputs_, requested_inputs_;
     std::uint64_t seen_restarts_ = 0;
-    bool command_line_stop_rules_ = false;  // --passes, --time or --target-error among option_tokens
     std::optional<StopRules> person_stop_rules_;
+    std::vector<std::pair<std::string, std::vector<std::string>>> scene_tokens_;  // absolute path -> tokens
+    bool tokens_assigned_ = false;  // option_tokens went to their scene
+    std::vector<Choices> undo_, redo_;
+    bool coalescing_ = false, group_open_ = false;
+    std::string a4_hint_;
+    std::string scheduled_save_, last_saved_;
+    bool scheduled_overwrite_ = false;
+    std::optional<SaveResult> scheduled_result_;
+    CameraBookmarks bookmarks_;
     OrbitCamera orbit_;
     bool target_known_ = false;
     std::optional<glm::dvec2> pending_orbit_;

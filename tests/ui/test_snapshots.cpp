@@ -153,10 +153,10 @@ TEST(Snapshot, ImageRegionMatchesABatchRenderOfTheSameView) {
     ASSERT_TRUE(preview.settle()) << preview.model->error();
     const std::vector<unsigned char> shot = preview.snapshot();
     const std::string reference = preview.folder.file("batch.png");
-    // The preview starts from the `preview` quality preset, then the scene's gr.option (its photon
-    // count), then the command line: the batch render spells out the same sequence.
+    // What you see is what you save (issue 12): the preview renders what `caustica render SCENE` with
+    // the view's options does, no preset of its own: the batch render is given the same options only.
     const std::string command = std::string(CAUSTICA_BINARY) + " render " + preview.scene + " -o " + reference +
-                                " --quality preview --caustic-num-photons 2000000 --reproducible --threads 2 -s";
+                                " --reproducible --threads 2 -s";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     const Png8 batch = read_png(reference);
     const ImageLayout layout = preview.app->layout();

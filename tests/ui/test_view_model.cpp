@@ -202,10 +202,9 @@ TEST(ViewModel, KnobsThePersonSetSurviveAReload) {
     }, 30.0));
     EXPECT_EQ(m.model.knobs().num_neighbours, 42);
     EXPECT_EQ(m.model.orbit_camera().eye(), eye);  // the orbit is kept too
-    m.model.reset_knobs();  // back to the script's value, here the preview preset's default
-    Options preset;
-    apply_option_tokens(preset, {"--quality", "preview"});
-    EXPECT_EQ(m.model.knobs().num_neighbours, preset.caustic_num_neighbours);
+    m.model.reset_knobs();  // back to the script's value: it sets none, so the option's default (no preset)
+    EXPECT_EQ(m.model.knobs().num_neighbours, Options{}.caustic_num_neighbours);
+    EXPECT_EQ(m.model.current_job().options.caustic_num_neighbours, 5);
 }
 
 TEST(ViewModel, SettingsThatFailToRenderAreTakenBack) {
