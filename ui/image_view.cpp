@@ -1,20 +1,34 @@
 #include "ui/image_view.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace caustica::ui {
+
+namespace {
+
+// Magnified pixels stay sharp squares (nearest), a shrunk image is filtered.
+void set_texture_parameters() {
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+}
+
+}  // namespace
 
 ImageView::ImageView() : program_("image.vert", "image.frag") {
     glGenVertexArrays(1, &vertex_array_);  // core profile: a bound VAO even without attributes
     glGenTextures(1, &texture_);
     glBindTexture(GL_TEXTURE_2D, texture_);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    set_texture_parameters();
+    glGenTextures(1, &reference_);
+    glBindTexture(GL_TEXTURE_2D, reference_);
+    set_texture_parameters();
 }
 
 ImageView::~ImageView() {
+    glDeleteTextures(1, &reference_);
     glDeleteTextures(1, &texture_);
     glDeleteVertexArrays(1, &vertex_array_);
 }
@@ -55,8 +69,26 @@ void ImageView::upload(const PreviewDriver& driver) {
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
 }
 
-void ImageView::draw(const ImageLayout& layout, glm::vec2 window, const DisplaySettings& display) const {
+void ImageView::set_reference(const Image& reference) {
+    glBindTexture(GL_TEXTURE_2D, reference_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    if (reference.width <= 0 || reference.height <= 0) {
+        reference_width_ = reference_height_ = 0;
+        const float black[3] = {0.0f, 0.0f, 0.0f};
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, 1, 1, 0, GL_RGB, GL_FLOAT, black);  // frees the old one
+        return;
+    }
+    reference_width_ = reference.width;
+    reference_height_ = reference.height;
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, reference.width, reference.height, 0, GL_RGB, GL_FLOAT,
+                 reference.pixels.data());
+}
+
+void ImageView::draw(const ImageLayout& layout, glm::vec2 window, const DisplaySettings& display, const Compare& compare,
+                     glm::ivec4 clip) const {
     if (width_ <= 0 || height_ <= 0) return;
+    const int mode = reference_matches() ? compare.mode : 0;
     glUseProgram(program_.id());
     const glm::vec2 size = layout.size();
     glUniform4f(program_.uniform("u_rect"), layout.origin.x, layout.origin.y, size.x, size.y);
@@ -64,16 +96,24 @@ void ImageView::draw(const ImageLayout& layout, glm::vec2 window, const DisplayS
     glUniform1f(program_.uniform("u_exposure"), std::exp2(display.exposure));
     glUniform1i(program_.uniform("u_srgb"), display.srgb ? 1 : 0);
     glUniform1i(program_.uniform("u_image"), 0);
+    glUniform1i(program_.uniform("u_reference"), 1);
+    glUniform1i(program_.uniform("u_mode"), mode);
+    glUniform1f(program_.uniform("u_split"), compare.split);
+    glUniform1f(program_.uniform("u_gain"), compare.gain);
+    glUniform1f(program_.uniform("u_epsilon"), compare.epsilon);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, reference_);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, texture_);
     // Whole magnifications stay sharp (texel fetches); a shrunk image is filtered.
     const bool whole = layout.scale >= 1.0f && layout.scale == std::floor(layout.scale);
     glUniform1i(program_.uniform("u_whole_pixels"), whole ? 1 : 0);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glBindVertexArray(vertex_array_);
     glDisable(GL_BLEND);
+    glEnable(GL_SCISSOR_TEST);  // a zoomed image stays in its area
+    glScissor(clip.x, clip.y, std::max(clip.z, 0), std::max(clip.w, 0));
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_SCISSOR_TEST);
     glBindVertexArray(0);
 }
 

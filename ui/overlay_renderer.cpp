@@ -1,5 +1,6 @@
 #include "ui/overlay_renderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -31,7 +32,7 @@ void OverlayRenderer::set_triangles(const std::vector<OverlayVertex>& triangles)
     count_ = static_cast<GLsizei>(triangles.size());
 }
 
-void OverlayRenderer::draw(const ImageLayout& layout, glm::vec2 window, glm::vec2 pixel_scale) const {
+void OverlayRenderer::draw(const ImageLayout& layout, glm::vec2 window, glm::vec2 pixel_scale, glm::ivec4 area) const {
     if (count_ == 0 || layout.image_width <= 0) return;
     const glm::vec2 size = layout.size();
     glUseProgram(program_.id());
@@ -42,9 +43,18 @@ void OverlayRenderer::draw(const ImageLayout& layout, glm::vec2 window, glm::vec
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glEnable(GL_SCISSOR_TEST);  // in framebuffer pixels, with the origin at the bottom-left
-    glScissor(static_cast<GLint>(std::floor(layout.origin.x * pixel_scale.x)),
-              static_cast<GLint>(std::floor((window.y - layout.origin.y - size.y) * pixel_scale.y)),
-              static_cast<GLsizei>(std::ceil(size.x * pixel_scale.x)), static_cast<GLsizei>(std::ceil(size.y * pixel_scale.y)));
+    const int x0 = static_cast<int>(std::floor(layout.origin.x * pixel_scale.x));
+    const int y0 = static_cast<int>(std::floor((window.y - layout.origin.y - size.y) * pixel_scale.y));
+    const int x1 = x0 + static_cast<int>(std::ceil(size.x * pixel_scale.x));
+    const int y1 = y0 + static_cast<int>(std::ceil(size.y * pixel_scale.y));
+    const int cx0 = std::max(x0, area.x), cy0 = std::max(y0, area.y);
+    const int cx1 = std::min(x1, area.x + area.z), cy1 = std::min(y1, area.y + area.w);
+    if (cx1 <= cx0 || cy1 <= cy0) {
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_BLEND);
+        return;
+    }
+    glScissor(cx0, cy0, cx1 - cx0, cy1 - cy0);
     glBindVertexArray(vertex_array_);
     glDrawArrays(GL_TRIANGLES, 0, count_);
     glBindVertexArray(0);

@@ -20,9 +20,10 @@ public:
 
     /// Replaces the triangles drawn (image pixel coordinates).
     void set_triangles(const std::vector<OverlayVertex>& triangles);
-    /// Draws them over an image placed by `layout`, clipped to the image; `pixel_scale` is
-    /// framebuffer pixels per window pixel (above 1 on high-density screens).
-    void draw(const ImageLayout& layout, glm::vec2 window, glm::vec2 pixel_scale) const;
+    /// Draws them over an image placed by `layout`, clipped to the image and to the framebuffer
+    /// rectangle `area` (x, y from the bottom-left, width, height: the image area when zoomed in);
+    /// `pixel_scale` is framebuffer pixels per window pixel (above 1 on high-density screens).
+    void draw(const ImageLayout& layout, glm::vec2 window, glm::vec2 pixel_scale, glm::ivec4 area) const;
 
 private:
     GlProgram program_;

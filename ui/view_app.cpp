@@ -1,12 +1,23 @@
 #include "ui/view_app.h"
 
+#include "ui/key_events.h"
 #include "ui/keys.h"
 
+#include "core/scene/camera.h"
+
 #include <imgui.h>
+
+#if __has_include("core/io/image_io.h")
+#include "core/io/image_io.h"
+#define CAUSTICA_HAS_IMAGE_IO 1
+#else
+#include "core/io/png_io.h"
+#endif
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <string>
 
 namespace caustica::ui {
 namespace {
@@ -14,7 +25,16 @@ namespace {
 constexpr double degrees_per_pixel = 0.3;
 constexpr double arrow_degrees = 5.0;
 
-bool pressed(int key, bool repeat = false) { return ImGui::IsKeyPressed(key, repeat); }
+/// From the platform's key queue, not ImGui::IsKeyPressed: that misses a tap shorter than a frame.
+bool pressed(int key, bool repeat = false) { return key_pressed(key, repeat); }
+
+// Keys of the inspection tools (GLFW numbers: ASCII for letters and digits).
+constexpr int key_a = 65, key_b = 66, key_f = 70, key_i = 73, key_1 = 49;
+constexpr float split_grab_pixels = 6.0f;  // how near the split line a press grabs it
+
+double now_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 }  // namespace
 
@@ -39,20 +59,42 @@ void ViewApp::drop(const std::vector<std::string>& paths) {
 void ViewApp::handle_mouse(glm::vec2 window) {
     const ImGuiIO& io = ImGui::GetIO();
     const glm::vec2 mouse(io.MousePos.x, io.MousePos.y);
-    const bool over_area = !io.WantCaptureMouse && mouse.x >= 0.0f && mouse.y >= 0.0f &&
-                           mouse.x < window.x - sidebar_width && mouse.y < window.y;
+    const bool over_area = !io.WantCaptureMouse && mouse.x >= 0.0f && mouse.y >= 0.0f && mouse.x < area_.x &&
+                           mouse.y < window.y;
+    const bool split_shown = inspect_.mode == CompareMode::split && image_->reference_matches();
+    const float split_x = layout_.origin.x + inspect_.split * layout_.size().x;
     for (int b = 0; b < 3; ++b) {
-        if (ImGui::IsMouseClicked(b) && over_area) dragging_[b] = true;  // a drag belongs to where it began
-        if (!io.MouseDown[b]) dragging_[b] = false;
+        if (ImGui::IsMouseClicked(b) && over_area) {  // a drag belongs to where it began
+            if (b == 0 && io.KeyCtrl) panning_image_ = true;  // Ctrl+drag moves the zoomed image
+            else if (b == 0 && split_shown && std::abs(mouse.x - split_x) <= split_grab_pixels) dragging_split_ = true;
+            else dragging_[b] = true;
+        }
+        if (!io.MouseDown[b]) {
+            dragging_[b] = false;
+            if (b == 0) panning_image_ = dragging_split_ = false;
+        }
     }
     const glm::vec2 delta(io.MouseDelta.x, io.MouseDelta.y);
     const bool moved = (delta.x != 0.0f || delta.y != 0.0f) && io.MousePos.x > -1e30f && io.MousePosPrev.x > -1e30f;
     if (moved && dragging_[0]) model_.orbit(-delta.x * degrees_per_pixel, delta.y * degrees_per_pixel);
     if (moved && (dragging_[1] || dragging_[2])) model_.pan(glm::dvec2(delta) / static_cast<double>(layout_.scale));
-    if (over_area && io.MouseWheel != 0.0f) model_.zoom(io.MouseWheel);
+    if (moved && panning_image_) inspect_.zoom.pan(layout_, glm::vec2(0.0f), area_, delta);
+    if (moved && dragging_split_ && layout_.image_width > 0)
+        inspect_.split = std::clamp(layout_.to_image(mouse).x / static_cast<float>(layout_.image_width), 0.0f, 1.0f);
+    if (over_area && io.MouseWheel != 0.0f) {
+        if (io.KeyCtrl) inspect_.zoom.zoom_at(layout_, glm::vec2(0.0f), area_, mouse, io.MouseWheel > 0.0f ? 1 : -1);
+        else model_.zoom(io.MouseWheel);  // the camera dollies; Ctrl+wheel zooms the image
+    }
     if (over_area && ImGui::IsMouseDoubleClicked(0) && layout_.contains(mouse)) {
         if (!model_.set_target_at(layout_.to_image(mouse))) show_message(state_, "nothing under the cursor");
     }
+    const bool dragging = dragging_[0] || dragging_[1] || dragging_[2] || panning_image_ || dragging_split_;
+    // The readout follows a mouse that has moved: a pointer resting where the window opened
+    // (Xvfb puts it at the screen's centre) shows nothing.
+    if (moved) mouse_moved_ = true;
+    inspect_.hover.reset();
+    if (forced_hover_) inspect_.hover = forced_hover_;
+    else if (mouse_moved_ && over_area && !dragging && layout_.contains(mouse)) inspect_.hover = mouse;
 }
 
 void ViewApp::handle_keys() {
@@ -61,6 +103,13 @@ void ViewApp::handle_keys() {
     if (io.KeyCtrl && pressed(keys::q)) quit_ = true;  // Ctrl+Q
     if (io.WantCaptureKeyboard || io.KeyCtrl) {
         if (io.KeyCtrl && pressed(keys::e)) model_.display().exposure = 0.0f;
+        if (!io.WantCaptureKeyboard && io.KeyCtrl) {  // a text field keeps its own undo
+            if (pressed(keys::z, true)) {
+                if (io.KeyShift) model_.redo();
+                else model_.undo();
+            }
+            if (pressed(keys::y, true)) model_.redo();
+        }
         return;
     }
     if (pressed(keys::f1) || pressed(keys::h)) state_.show_help = !state_.show_help;
@@ -85,6 +134,19 @@ void ViewApp::handle_keys() {
     if (pressed(keys::down, true)) model_.orbit(0.0, arrow_degrees);
     if (pressed(keys::equal, true) || pressed(keys::keypad_add, true)) model_.zoom(1.0);
     if (pressed(keys::minus, true) || pressed(keys::keypad_subtract, true)) model_.zoom(-1.0);
+    // Inspection: sidebar, image zoom, A/B.
+    if (pressed(keys::tab)) inspect_.sidebar_hidden = !inspect_.sidebar_hidden;
+    if (pressed(key_f)) inspect_.zoom.fit_area();
+    if (pressed(key_1)) {
+        const ImGuiIO& mouse = ImGui::GetIO();
+        const glm::vec2 at = layout_.contains(glm::vec2(mouse.MousePos.x, mouse.MousePos.y))
+                                 ? glm::vec2(mouse.MousePos.x, mouse.MousePos.y)
+                                 : 0.5f * area_;
+        inspect_.zoom.set_scale(layout_, glm::vec2(0.0f), area_, at, 1.0f);
+    }
+    if (pressed(key_b)) inspect_.snapshot_requested = true;
+    if (pressed(key_i)) inspect_.readout = !inspect_.readout;
+    if (pressed(key_a)) inspect_.mode = static_cast<CompareMode>((static_cast<int>(inspect_.mode) + 1) % 4);
 }
 
 void ViewApp::update_overlay_triangles() {
@@ -98,17 +160,133 @@ void ViewApp::update_overlay_triangles() {
     overlay_scale_ = layout_.scale;
 }
 
+void ViewApp::load_reference() {
+    const std::string path = inspect_.reference_path.data();
+    if (path.empty()) {
+        inspect_.reference_problem = "type the path of a PNG, EXR or PFM image to compare with";
+        return;
+    }
+    try {
+#ifdef CAUSTICA_HAS_IMAGE_IO
+        Image image = read_image_file(path);
+#else
+        // Until core/io/image_io.h exists: PNG only, 8-bit values / 255 as linear (as the batch PNG).
+        const Png8 png = read_png(path);
+        Image image(png.width, png.height);
+        for (int y = 0; y < png.height; ++y)
+            for (int x = 0; x < png.width; ++x) {
+                const unsigned char* p = &png.data[(static_cast<std::size_t>(y) * png.width + x) * png.channels];
+                const bool grey = png.channels < 3;
+                image.at(x, y) = glm::vec3(p[0], p[grey ? 0 : 1], p[grey ? 0 : 2]) / 255.0f;
+            }
+#endif
+        inspect_.reference = std::move(image);
+        inspect_.reference_name = std::filesystem::path(path).filename().string();
+        ++inspect_.reference_version;
+        inspect_.reference_problem.clear();
+        if (inspect_.mode == CompareMode::off) inspect_.mode = CompareMode::split;
+    } catch (const std::exception& e) {
+        inspect_.reference_problem = e.what();  // the reader names the file and what is wrong
+    }
+}
+
+void ViewApp::update_inspection() {
+    const PreviewDriver& driver = model_.driver();
+    const Image& image = driver.image();
+    if (inspect_.snapshot_requested && image.width > 0) {
+        inspect_.reference = image;
+        inspect_.reference_name = "snapshot";
+        ++inspect_.reference_version;
+        inspect_.reference_problem.clear();
+        if (inspect_.mode == CompareMode::off) inspect_.mode = CompareMode::split;
+    }
+    if (inspect_.load_requested) load_reference();
+    if (inspect_.clear_requested) {
+        inspect_.reference = Image();
+        inspect_.reference_name.clear();
+        ++inspect_.reference_version;
+        inspect_.reference_problem.clear();
+    }
+    inspect_.snapshot_requested = inspect_.load_requested = inspect_.clear_requested = false;
+    if (uploaded_reference_ != inspect_.reference_version) {
+        image_->set_reference(inspect_.reference);
+        uploaded_reference_ = inspect_.reference_version;
+        inspect_.stats_due = true;
+    }
+    // The histogram and the metrics: when the image or the exposure changed, at most 4 times a
+    // second, on a grid of at most 32768 pixels (0.75 ms at 1280 x 720).
+    if (!driver.changed_tiles().empty() || driver.size_changed() || model_.display().exposure != stats_exposure_)
+        inspect_.stats_due = true;
+    const double now = now_seconds();
+    if (inspect_.stats_due && now - inspect_.stats_at >= stats_interval) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const int stride = sample_stride(image.width, image.height);
+        stats_exposure_ = model_.display().exposure;
+        inspect_.histogram = luminance_histogram(image, std::exp2(stats_exposure_), stride);
+        inspect_.metrics = inspect_.reference.width > 0
+                               ? compare_images(image, inspect_.reference, inspect_.epsilon, stride)
+                               : std::nullopt;
+        inspect_.stats_at = now;
+        inspect_.stats_due = false;
+        inspect_.stats_ms = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
+    // The readout: the pixel every frame (its value changes as the render refines), the surface
+    // (one ray and one photon query) only when the pixel, the render or the photon map changes.
+    inspect_.pixel = inspect_.hover ? read_pixel(image, layout_.to_image(*inspect_.hover), &inspect_.reference)
+                                    : PixelReadout{};
+    if (!inspect_.pixel.valid || !driver.has_job()) {
+        inspect_.inspected = glm::ivec2(-1);
+        inspect_.surface.reset();
+        return;
+    }
+    const glm::ivec2 at(inspect_.pixel.x, inspect_.pixel.y);
+    if (at == inspect_.inspected && driver.generation() == inspect_.inspected_generation &&
+        driver.maps_version() == inspect_.inspected_maps)
+        return;
+    const RenderJob& job = driver.job();
+    if (job.width != image.width || job.height != image.height) return;  // a resize on its way
+    const Camera camera(job.camera, job.width, job.height);
+    inspect_.surface = driver.session().inspect(camera.generate(at.x + 0.5f, at.y + 0.5f), job.options);
+    inspect_.inspected = at;
+    inspect_.inspected_generation = driver.generation();
+    inspect_.inspected_maps = driver.maps_version();
+}
+
 void ViewApp::frame(glm::vec2 window) {
     const auto t0 = std::chrono::steady_clock::now();
+    area_ = glm::vec2(std::max(window.x - (inspect_.sidebar_hidden ? 0.0f : sidebar_width), 1.0f), window.y);
     handle_mouse(window);
     handle_keys();
+    area_ = glm::vec2(std::max(window.x - (inspect_.sidebar_hidden ? 0.0f : sidebar_width), 1.0f), window.y);
     model_.update();
     image_->upload(model_.driver());
     const Image& image = model_.driver().image();
-    layout_ = fit_image(glm::vec2(0.0f), glm::vec2(window.x - sidebar_width, window.y), image.width, image.height);
+    inspect_.zoom.clamp(image.width, image.height);
+    layout_ = inspect_.zoom.layout(glm::vec2(0.0f), area_, image.width, image.height);
+    if (inspect_.zoom.fit) inspect_.zoom.scale = layout_.scale;  // what the panel and the next step start from
+    update_inspection();
     update_overlay_triangles();
-    draw_sidebar(model_, state_, window);
+    state_.image_area_width = area_.x;  // the banner and messages centre on the image area
+    if (!inspect_.sidebar_hidden) {
+        draw_sidebar(model_, state_, window);
+        ImGui::Begin("caustica preview");  // appends the Inspect section to the sidebar window
+        draw_inspect_section(inspect_, model_);
+        ImGui::End();
+    }
+    draw_sidebar_toggle(inspect_, area_.x);
+    if (inspect_.mode == CompareMode::split && image_->reference_matches() && layout_.image_width > 0) {
+        // The split line, over the image but under every window.
+        const float x = std::floor(layout_.origin.x + inspect_.split * layout_.size().x) + 0.5f;
+        const float top = std::max(layout_.origin.y, 0.0f), bottom = std::min(layout_.origin.y + layout_.size().y, area_.y);
+        if (x >= 0.0f && x < area_.x) {
+            ImDrawList* draw = ImGui::GetBackgroundDrawList();
+            draw->AddLine(ImVec2(x, top), ImVec2(x, bottom), IM_COL32(255, 255, 255, 200), 1.0f);
+            draw->AddText(ImVec2(x - 18.0f, top + 4.0f), IM_COL32(255, 255, 255, 230), "A");
+            draw->AddText(ImVec2(x + 10.0f, top + 4.0f), IM_COL32(255, 255, 255, 230), "B");
+        }
+    }
     draw_image_overlays(model_, state_, layout_, window);
+    draw_hover_readout(inspect_, layout_, area_);
     state_.ui_frame_ms = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -116,9 +294,18 @@ void ViewApp::draw(glm::vec2 window, int framebuffer_width, int framebuffer_heig
     glViewport(0, 0, framebuffer_width, framebuffer_height);
     glClearColor(0.1f, 0.1f, 0.11f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    image_->draw(layout_, window, model_.display());
     const glm::vec2 pixel_scale(framebuffer_width / std::max(1.0f, window.x), framebuffer_height / std::max(1.0f, window.y));
-    if (model_.overlay().enabled) overlay_->draw(layout_, window, pixel_scale);
+    // The image area in framebuffer pixels (origin at the bottom-left): a zoomed image stays in it.
+    const glm::ivec4 area(0, static_cast<int>(std::floor((window.y - area_.y) * pixel_scale.y)),
+                          static_cast<int>(std::ceil(area_.x * pixel_scale.x)),
+                          static_cast<int>(std::ceil(area_.y * pixel_scale.y)));
+    ImageView::Compare compare;
+    compare.mode = static_cast<int>(inspect_.mode);
+    compare.split = inspect_.split;
+    compare.gain = std::exp2(inspect_.difference_stops);
+    compare.epsilon = inspect_.epsilon;
+    image_->draw(layout_, window, model_.display(), compare, area);
+    if (model_.overlay().enabled) overlay_->draw(layout_, window, pixel_scale, area);
 }
 
 }  // namespace caustica::ui

@@ -6,10 +6,12 @@
 #include "ui/image_layout.h"
 #include "ui/image_view.h"
 #include "ui/overlay_renderer.h"
+#include "ui/panel_inspect.h"
 #include "ui/panels.h"
 #include "ui/view_model.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,11 +45,21 @@ public:
     const ImageLayout& layout() const { return layout_; }
     /// The texture side (upload counts).
     const ImageView& image_view() const { return *image_; }
+    /// The inspection tools' state: zoom, sidebar, A/B reference and mode, statistics, readout.
+    InspectState& inspect() { return inspect_; }
+    const InspectState& inspect() const { return inspect_; }
+    /// Tests and screenshots: the hover readout at this window point whatever the mouse does
+    /// (nullopt: the mouse decides again).
+    void force_hover(std::optional<glm::vec2> point) { forced_hover_ = point; }
+    /// The image area's size (the window without the sidebar when it is shown).
+    glm::vec2 image_area() const { return area_; }
 
 private:
     void handle_mouse(glm::vec2 window);
     void handle_keys();
     void update_overlay_triangles();
+    void update_inspection();
+    void load_reference();
 
     ViewModel& model_;
     PanelState state_;
@@ -58,6 +70,12 @@ private:
     std::uint64_t overlay_version_ = ~std::uint64_t(0);
     float overlay_scale_ = 0.0f;
     bool quit_ = false;
+    InspectState inspect_;
+    std::optional<glm::vec2> forced_hover_;
+    glm::vec2 area_{0.0f};
+    bool panning_image_ = false, dragging_split_ = false, mouse_moved_ = false;
+    std::uint64_t uploaded_reference_ = 0;
+    float stats_exposure_ = 0.0f;
 };
 
 }  // namespace caustica::ui

@@ -19,6 +19,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -63,6 +64,22 @@ struct SessionProgress {
     /// The photon stage of the current pass: directions considered so far, of how many.
     long long photons_done = 0, photons_total = 0;
     std::string stopped_by;  ///< why accumulation stopped: "passes", "time", "target error", "cancelled"
+};
+
+/// What a ray meets first, for the preview's hover readout (RenderSession::inspect).
+struct SurfaceInspection {
+    glm::vec3 point{0.0f};
+    float distance = 0.0f;          ///< ray parameter of the hit
+    std::string object;             ///< the scene node whose primitive was hit ("" when not identified)
+    std::string object_where;       ///< its script line ("file:line")
+    int material = -1;              ///< index into SceneDesc::materials, -1 = the default material
+    std::string material_where;     ///< the gr.material call's line
+    glm::vec3 kd{0.0f}, ks{0.0f};
+    bool reflective = false, transparent = false;
+    /// Radiance the caustic photon map adds there, as the integrator gathers it (kd x estimate
+    /// for progressive, the classic estimate for classic); empty without a caustic map.
+    std::optional<glm::vec3> caustic;
+    std::size_t map_photons = 0;    ///< photons in the caustic map used
 };
 
 /// Tile edge length in pixels.
@@ -118,6 +135,12 @@ public:
     /// The first surface point along a ray in the last built scene (thread-safe; for picking).
     bool pick(const Ray& ray, glm::vec3& point) const;
 
+    /// What `ray` meets first in the last built scene: point, node, material and the caustic
+    /// photon map's radiance estimate there with the N and maximum distance of `options` (the
+    /// shown job's), from the last built caustic map. One ray and one k-nearest query; thread-safe
+    /// (the scene and its node index are shared snapshots, the map is read under the mutex).
+    std::optional<SurfaceInspection> inspect(const Ray& ray, const Options& options) const;
+
     /// Copies of the projection maps of the last photon pass, with their lights (published as
     /// soon as the pass is done; empty when no map was built). Thread-safe.
     std::vector<LightProjectionMap> projection_maps() const;
@@ -168,6 +191,12 @@ private:
     std::uint64_t caustic_key_ = 0;         // fingerprint of what the photon map depends on, 0 = none
     std::unique_ptr<CausticStage> caustics_;
     std::shared_ptr<const RenderScene> scene_;  // replaced under mutex_ (pick reads it)
+    std::shared_ptr<const RenderJob> inspect_job_;  // the job scene_ was built from, replaced with it under mutex_
+    struct InspectIndex;  // nodes and materials of scene_'s primitives, for inspect()
+    static std::shared_ptr<const InspectIndex> make_inspect_index(const RenderJob& job);
+    mutable std::mutex inspect_mutex_;  // guards the two below
+    mutable std::shared_ptr<const InspectIndex> inspect_index_;
+    mutable std::shared_ptr<const RenderJob> index_job_;  // the job inspect_index_ was built for
     std::unique_ptr<TextureSet> textures_;
     std::vector<std::string> warnings_;
 
