@@ -17,7 +17,8 @@ void set_texture_parameters() {
 
 }  // namespace
 
-ImageView::ImageView() : program_("image.vert", "image.frag") {
+ImageView::ImageView()
+    : program_("image.vert", "image.frag"), compare_program_("image.vert", "image_compare.frag") {
     glGenVertexArrays(1, &vertex_array_);  // core profile: a bound VAO even without attributes
     glGenTextures(1, &texture_);
     glBindTexture(GL_TEXTURE_2D, texture_);
@@ -89,25 +90,32 @@ void ImageView::draw(const ImageLayout& layout, glm::vec2 window, const DisplayS
                      glm::ivec4 clip) const {
     if (width_ <= 0 || height_ <= 0) return;
     const int mode = reference_matches() ? compare.mode : 0;
-    glUseProgram(program_.id());
+    // The plain image has its own branch-free program: llvmpipe runs every branch of a shader, and
+    // the comparison code tripled the cost of every frame's image quad (docs/PERFORMANCE.md).
+    const GlProgram& program = mode != 0 ? compare_program_ : program_;
+    glUseProgram(program.id());
     const glm::vec2 size = layout.size();
-    glUniform4f(program_.uniform("u_rect"), layout.origin.x, layout.origin.y, size.x, size.y);
-    glUniform2f(program_.uniform("u_window"), window.x, window.y);
-    glUniform1f(program_.uniform("u_exposure"), std::exp2(display.exposure));
-    glUniform1i(program_.uniform("u_srgb"), display.srgb ? 1 : 0);
-    glUniform1i(program_.uniform("u_image"), 0);
-    glUniform1i(program_.uniform("u_reference"), 1);
-    glUniform1i(program_.uniform("u_mode"), mode);
-    glUniform1f(program_.uniform("u_split"), compare.split);
-    glUniform1f(program_.uniform("u_gain"), compare.gain);
-    glUniform1f(program_.uniform("u_epsilon"), compare.epsilon);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, reference_);
+    glUniform4f(program.uniform("u_rect"), layout.origin.x, layout.origin.y, size.x, size.y);
+    glUniform2f(program.uniform("u_window"), window.x, window.y);
+    glUniform1f(program.uniform("u_exposure"), std::exp2(display.exposure));
+    glUniform1i(program.uniform("u_image"), 0);
+    if (mode == 0) {
+        glUniform1f(program.uniform("u_srgb"), display.srgb ? 1.0f : 0.0f);
+    } else {
+        glUniform1i(program.uniform("u_srgb"), display.srgb ? 1 : 0);
+        glUniform1i(program.uniform("u_reference"), 1);
+        glUniform1i(program.uniform("u_mode"), mode);
+        glUniform1f(program.uniform("u_split"), compare.split);
+        glUniform1f(program.uniform("u_gain"), compare.gain);
+        glUniform1f(program.uniform("u_epsilon"), compare.epsilon);
+        // Whole magnifications stay sharp (texel fetches); a shrunk image is filtered.
+        const bool whole = layout.scale >= 1.0f && layout.scale == std::floor(layout.scale);
+        glUniform1i(program.uniform("u_whole_pixels"), whole ? 1 : 0);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, reference_);
+    }
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, texture_);
-    // Whole magnifications stay sharp (texel fetches); a shrunk image is filtered.
-    const bool whole = layout.scale >= 1.0f && layout.scale == std::floor(layout.scale);
-    glUniform1i(program_.uniform("u_whole_pixels"), whole ? 1 : 0);
     glBindVertexArray(vertex_array_);
     glDisable(GL_BLEND);
     glEnable(GL_SCISSOR_TEST);  // a zoomed image stays in its area
