@@ -79,7 +79,10 @@ std::optional<ImageComparison> compare_images(const Image& current, const Image&
     for (int y = 0; y < current.height; y += stride)
         for (int x = 0; x < current.width; x += stride) {
             const glm::vec3 a = current.at(x, y), b = reference.at(x, y);
-            if (!finite(a) || !finite(b)) continue;
+            if (!finite(a) || !finite(b)) {
+                ++r.non_finite;  // counted, so that "RMSE 0" of an all-NaN image is not taken for a match
+                continue;
+            }
             const glm::dvec3 d = glm::dvec3(a) - glm::dvec3(b);
             squares += d.x * d.x + d.y * d.y + d.z * d.z;
             r.max_abs = std::max({r.max_abs, std::abs(d.x), std::abs(d.y), std::abs(d.z)});

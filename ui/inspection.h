@@ -51,6 +51,7 @@ struct ImageComparison {
     double mean_relative = 0.0;  ///< mean of |a - b|_1 / |b|_1 over samples with |b|_1 > epsilon
     double max_abs = 0.0;        ///< largest |a_c - b_c|
     std::size_t samples = 0;           ///< pixels compared
+    std::size_t non_finite = 0;        ///< sampled pixels left out: NaN or infinite in either image
     std::size_t relative_samples = 0;  ///< of which counted in mean_relative
 };
 

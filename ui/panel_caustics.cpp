@@ -118,10 +118,11 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     int preset = 0;
     for (int i = 0; i < 4; ++i)
         if (model.preset() == quality_preset_names[i]) preset = i;
-    if (ImGui::Combo("quality preset", &preset, "none (the scene's values)\0draft\0preview\0final\0"))
+    if (ImGui::Combo("quality preset", &preset, "scene's values\0draft\0preview\0final\0"))
         model.set_preset(quality_preset_names[preset]);
     hint("--quality: photons, N, max distance, anti-aliasing and shadow grid of docs/ACCURACY.md, applied over "
-         "the scene's options (the knobs below win over it). none: exactly what `caustica render SCENE` uses");
+         "the scene's options (the knobs below win over it). scene's values (no --quality): exactly what "
+         "`caustica render SCENE` uses");
 
     CausticKnobs k = model.knobs();
     int integrator = static_cast<int>(k.integrator);
@@ -206,6 +207,10 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
 }
 
 void draw_differences_section(ViewModel& model) {
+    if (!model.has_scene()) {  // nothing shown: nothing differs, no command renders it
+        ImGui::TextDisabled("no scene loaded");
+        return;
+    }
     const std::vector<Difference> differences = model.differences();
     if (differences.empty()) {
         ImGui::PushTextWrapPos(0.0f);

@@ -108,8 +108,15 @@ void draw_inspect_section(InspectState& state, const ViewModel& model) {
     if (state.mode == CompareMode::difference) ImGui::SliderFloat("gain (stops)", &state.difference_stops, 0.0f, 10.0f, "%.1f");
     if (state.mode == CompareMode::heat) draw_heat_legend(ImGui::GetContentRegionAvail().x);
     if (state.metrics) {
-        ImGui::Text("RMSE %.4g   mean rel. error %s", state.metrics->rmse, percent(state.metrics->mean_relative).c_str());
-        ImGui::Text("max |A-B| %.4g   (%zu px sampled)", state.metrics->max_abs, state.metrics->samples);
+        if (state.metrics->samples == 0) {
+            ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "no finite pixels to compare (%zu NaN/inf)",
+                               state.metrics->non_finite);
+        } else {
+            ImGui::Text("RMSE %.4g   mean rel. error %s", state.metrics->rmse, percent(state.metrics->mean_relative).c_str());
+            ImGui::Text("max |A-B| %.4g   (%zu px sampled)", state.metrics->max_abs, state.metrics->samples);
+            if (state.metrics->non_finite > 0)
+                ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "%zu NaN/inf px left out", state.metrics->non_finite);
+        }
     }
     ImGui::PopItemWidth();
 }

@@ -53,7 +53,8 @@ void error_banner(ViewModel& model, glm::vec2 area) {
     ImGui::PushTextWrapPos(area.x - 40.0f);
     ImGui::TextUnformatted(model.error().c_str());
     ImGui::PopTextWrapPos();
-    ImGui::TextDisabled("the previous scene stays on screen; fix the file and it reloads");
+    ImGui::TextDisabled(model.has_scene() ? "the previous scene stays on screen; fix the file and it reloads"
+                                          : "no scene loaded; fix the file and it reloads");
     if (ImGui::SmallButton("dismiss")) model.clear_error();
     ImGui::End();
     ImGui::PopStyleColor();

@@ -77,7 +77,11 @@ void draw_scene_section(ViewModel& model, PanelState& state) {
     }
 
     const double now = ImGui::GetTime();
-    if (now - state.scene_files_at > 2.0) {  // the folder is listed again every two seconds
+    // Listed again every two seconds, and at once when another scene is shown: its folder is
+    // listed too (the first frames run before the first scene has loaded).
+    static std::string listed_for;
+    if (now - state.scene_files_at > 2.0 || listed_for != model.scene_path()) {
+        listed_for = model.scene_path();
         state.scene_files = model.source().scene_files(model.scene_path());
         state.scene_files_at = now;
     }
@@ -90,6 +94,11 @@ void draw_scene_section(ViewModel& model, PanelState& state) {
                 model.open(path);
             }
         ImGui::EndCombo();
+    }
+    if (!model.source().warning().empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "%s", model.source().warning().c_str());
+        ImGui::PopTextWrapPos();
     }
     if (model.render_count() > 1) {
         int index = model.render_index() + 1;

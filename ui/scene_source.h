@@ -14,6 +14,23 @@
 
 namespace caustica::ui {
 
+/// A small text file read whole (see read_small_file).
+struct SmallFile {
+    bool exists = false;  ///< false: no such file (nothing read, nothing wrong)
+    std::string text;     ///< the contents when problem is empty
+    std::string problem;  ///< why it was not read: "is a named pipe (FIFO), ...", "larger than 1 MiB", ...
+};
+/// Reads `path` only if it is a regular file of at most `limit` bytes: a FIFO, device (a link to
+/// /dev/zero), folder or oversized file is refused at once, without waiting or reading it.
+SmallFile read_small_file(const std::string& path, std::size_t limit);
+
+/// The recent scenes list is ten paths; a bigger file is not ours.
+inline constexpr std::size_t recent_file_limit = 1u << 20;
+
+/// The message for a scene path that is not a regular file: "PATH: no such scene file", "PATH: is
+/// a folder, not a scene file", ... (a FIFO, a device, a socket).
+std::string not_a_scene_file(const std::string& path);
+
 /// The outcome of loading one script.
 struct LoadedScene {
     std::string path;    ///< as opened
@@ -46,8 +63,11 @@ public:
 
     /// Recently opened scenes, newest first (absolute paths).
     const std::vector<std::string>& recent() const { return recent_; }
-    /// Puts `path` at the front of the recent list (and saves the list).
+    /// Puts `path` at the front of the recent list (and saves the list, unless the file was
+    /// refused at start: what we would not read we do not write over).
     void add_recent(const std::string& path);
+    /// Why the recent list file was not read or written ("" = fine).
+    const std::string& warning() const { return warning_; }
 
     /// The .lua files under ./scenes and beside `current`, sorted, without duplicates.
     std::vector<std::string> scene_files(const std::string& current) const;
@@ -66,6 +86,8 @@ private:
     LoadSettings settings_;
     std::string recent_file_;
     std::vector<std::string> recent_;
+    std::string warning_;
+    bool recent_writable_ = true;
     std::vector<InFlight> in_flight_;
     std::uint64_t latest_ = 0;
     std::atomic<bool> stop_{false};
@@ -74,8 +96,11 @@ private:
 };
 
 /// Named cameras per scene ("camera bookmarks"), kept between runs in a small text file: one
-/// bookmark a line, "SCENE<TAB>NAME<TAB>ex ey ez vx vy vz ux uy uz fov". The file is written
-/// atomically; a line that cannot be read is skipped with a warning, a file over 1 MiB is ignored.
+/// bookmark a line, "SCENE<TAB>NAME<TAB>ex ey ez vx vy vz ux uy uz fov" (tab, line breaks and
+/// backslash in SCENE and NAME escaped as \t \n \r \\). Each change re-reads the file and changes
+/// only its own bookmark (two previews keep each other's), then replaces the file atomically. A
+/// line that cannot be read is skipped with a warning and written back as it was; a file that is
+/// over 1 MiB or not a regular file is ignored and never written over.
 class CameraBookmarks {
 public:
     /// Reads `file` ("" = kept in memory only).
@@ -94,8 +119,12 @@ private:
     struct Entry {
         std::string scene, name;
         CameraDesc camera;
+        std::string raw;  ///< an unreadable line, kept verbatim ("" = a bookmark)
     };
-    void write();
+    /// Reads the file into `entries`; false (warning_ says why) when it is refused.
+    bool read(std::vector<Entry>& entries);
+    /// Sets (camera given) or removes one bookmark, merged into the file as it is now.
+    void change(const std::string& scene, const std::string& name, const CameraDesc* camera);
     std::string file_, warning_;
     std::vector<Entry> entries_;
 };

@@ -4,8 +4,11 @@
 #include "core/scene/source_location.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+
+#include <unistd.h>
 
 namespace caustica::ui {
 namespace {
@@ -22,8 +25,8 @@ int parse_int(const std::string& flag, const std::string& text, int lo, int hi) 
 double parse_double(const std::string& flag, const std::string& text) {
     double value = 0.0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size())
-        throw InputError(flag + " " + text + ": expects a number");
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+        throw InputError(flag + " " + text + ": expects a finite number");
     return value;
 }
 
@@ -72,6 +75,8 @@ ViewArguments parse_view_arguments(const std::vector<std::string>& args) {
             parsed.headless = true;
         } else if (a == "--final") {
             parsed.final_image = true;
+        } else if (a == "--after-key") {
+            parsed.after_key = true;
         } else if (is(a, "--size")) {
             const std::string v = value_of(i, "--size");
             const auto [w, h] = split_pair("--size", v, 'x', "WIDTHxHEIGHT, e.g. 1280x720");
@@ -86,16 +91,33 @@ ViewArguments parse_view_arguments(const std::vector<std::string>& args) {
     Options check;
     apply_option_tokens(check, tokens, &positional);  // every render option is checked before a window opens
     if (positional.size() > 1)
-        throw InputError("view: one scene at a time, got '" + positional[0] + "' and '" + positional[1] + "'");
+        throw InputError("one scene at a time, got '" + positional[0] + "' and '" + positional[1] + "'");
     if (!positional.empty()) parsed.scene = positional[0];
     for (const std::string& t : tokens)
         if (t != parsed.scene) parsed.option_tokens.push_back(t);
     return parsed;
 }
 
+std::string snapshot_target_problem(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path target(path);
+    if (fs::is_directory(target, ec)) return path + ": is a folder, not a file";
+    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    if (!fs::exists(folder, ec)) return path + ": the folder " + folder.string() + " does not exist";
+    if (!fs::is_directory(folder, ec)) return path + ": " + folder.string() + " is not a folder";
+    if (::access(folder.c_str(), W_OK) != 0) return path + ": the folder " + folder.string() + " is not writable";
+    return {};
+}
+
+int scripted_exit_code(bool has_scene, const std::string& error, bool timed_out) {
+    if (timed_out) return 1;
+    return has_scene && error.empty() ? 0 : 2;
+}
+
 std::string view_help() {
     return "usage: caustica view [SCENE.lua] [--frames N] [--snapshot FILE.png] [--overlay] [--orbit YAW,PITCH]\n"
-           "                     [--headless] [--final] [--size WxH] [render options]\n"
+           "                     [--headless] [--final] [--size WxH] [--after-key] [render options]\n"
            "\n"
            "Opens an interactive preview: the ray tracer refines the image in the background while you\n"
            "orbit the camera and tune the caustics. Press F1 in the window for the keys.\n"
@@ -110,6 +132,8 @@ std::string view_help() {
            "                     progressive integrator refines without end unless --passes, --time or\n"
            "                     --target-error says when to stop (else --final waits for its first pass)\n"
            "  --size WxH         window size (default 1280x720)\n"
+           "  --after-key        with --frames/--snapshot: count the frames only from the first key pressed\n"
+           "                     in the window (for tests that send keys, e.g. with xdotool)\n"
            "  --allow-read DIR   let scenes read files under DIR too (repeatable; a shared texture folder)\n"
            "Render options ('caustica render --help') apply over the scene's gr.option calls, for\n"
            "SCENE.lua only: scenes opened later start from their own gr.option calls. The preview\n"

@@ -2,6 +2,7 @@
 
 #include "core/io/png_io.h"
 #include "core/scene/source_location.h"
+#include "ui/key_events.h"
 
 #include <chrono>
 #include <cstdio>
@@ -46,10 +47,12 @@ void start_view(ViewModel& model, PanelState& panels, const ViewArguments& args)
 }
 
 ScriptedRun::ScriptedRun(const ViewArguments& args)
-    : frames_wanted_(args.frames > 0 ? args.frames : 1), final_image_(args.final_image), started_(now_seconds()) {}
+    : frames_wanted_(args.frames > 0 ? args.frames : 1), final_image_(args.final_image), waiting_for_key_(args.after_key),
+      started_(now_seconds()) {}
 
 bool ScriptedRun::done(const ViewModel& model) {
-    ++frames_;
+    if (waiting_for_key_ && !key_events().frame_presses().empty()) waiting_for_key_ = false;  // this frame saw it
+    if (!waiting_for_key_) ++frames_;
     const PreviewDriver& driver = model.driver();
     bool ready = false;
     if (!model.loading()) {
@@ -63,7 +66,7 @@ bool ScriptedRun::done(const ViewModel& model) {
         ready = !model.has_scene() || image_ready || idle_after_error;
     }
     ready_frames_ = ready ? ready_frames_ + 1 : 0;
-    if (frames_ >= frames_wanted_ && ready_frames_ >= 3) return true;
+    if (!waiting_for_key_ && frames_ >= frames_wanted_ && ready_frames_ >= 3) return true;
     if (now_seconds() - started_ > scripted_timeout_seconds) {
         timed_out_ = true;
         return true;
@@ -92,6 +95,15 @@ void write_snapshot(const std::string& path, const std::vector<unsigned char>& r
                      {{"Software", "caustica " CAUSTICA_VERSION " (view snapshot)"}, {"caustica:platform", platform}});
 }
 
+int scripted_exit_code(const ViewModel& model, const ScriptedRun& run) {
+    if (!model.error().empty()) std::fprintf(stderr, "caustica view: %s\n", model.error().c_str());
+    if (run.timed_out()) {
+        std::fprintf(stderr, "caustica view: gave up waiting for the render\n");
+        return 1;
+    }
+    return scripted_exit_code(model.has_scene(), model.error(), false);
+}
+
 int view_main(int argc, char** argv, int (*run)(const ViewArguments&)) {
     try {
         const ViewArguments args = parse_view_arguments(std::vector<std::string>(argv + 1, argv + argc));
@@ -100,7 +112,13 @@ int view_main(int argc, char** argv, int (*run)(const ViewArguments&)) {
             return 0;
         }
         if (!args.scene.empty() && !std::filesystem::is_regular_file(args.scene))
-            throw InputError(args.scene + ": no such scene file");  // before any window opens
+            throw InputError(not_a_scene_file(args.scene));  // before any window opens
+        if (!args.snapshot.empty()) {
+            if (const std::string problem = snapshot_target_problem(args.snapshot); !problem.empty()) {
+                std::fprintf(stderr, "caustica view: %s\n", problem.c_str());
+                return 1;  // an output problem, as for `caustica render`
+            }
+        }
         return run(args);
     } catch (const InputError& e) {
         std::fprintf(stderr, "caustica view: %s\n", e.what());

@@ -26,13 +26,14 @@ public:
     /// Call after each frame; true once --frames frames ran and the image is ready: the first
     /// full-resolution pass (every pass with --final) and the overlay are done, for three frames
     /// in a row (so that the last tiles and the panels' sizes have settled), or a scene error is shown.
+    /// With --after-key, frames count only from the frame that saw the first key press.
     bool done(const ViewModel& model);
     /// Whether the run gave up waiting (timed out).
     bool timed_out() const { return timed_out_; }
 
 private:
     int frames_wanted_, frames_ = 0, ready_frames_ = 0;
-    bool final_image_;
+    bool final_image_, waiting_for_key_;
     double started_;
     bool timed_out_ = false;
 };
@@ -49,5 +50,10 @@ void write_snapshot(const std::string& path, const std::vector<unsigned char>& r
 /// The common main: parses argv (after the program name) and hands the arguments to `run`.
 /// Prints help and argument errors itself. Returns the exit code.
 int view_main(int argc, char** argv, int (*run)(const ViewArguments&));
+
+/// The exit code of a scripted run (--frames/--snapshot) that ended, after printing what went
+/// wrong: 1 it gave up waiting, 2 no scene or the scene (or its render) ends with an error shown,
+/// as `caustica render` exits 2 for it; else 0.
+int scripted_exit_code(const ViewModel& model, const ScriptedRun& run);
 
 }  // namespace caustica::ui

@@ -433,9 +433,12 @@ std::vector<Difference> ViewModel::differences() const {
 void ViewModel::reset_difference(const std::string& id) {
     if (!scene_) return;
     if (id == "all") {
-        const bool any_choice = !(choices() == Choices{});
-        record_undo();
-        if (!any_choice) undo_.pop_back();
+        // One undo step for the whole reset, and none when there is nothing to undo. Mid-drag the
+        // drag's own step is closed first: record_undo() would otherwise add nothing.
+        if (!(choices() == Choices{})) {
+            group_open_ = false;
+            record_undo();
+        }
         const bool saved = coalescing_;
         coalescing_ = group_open_ = true;  // the steps below belong to this one
         for (const Difference& d : differences())

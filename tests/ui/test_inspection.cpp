@@ -81,6 +81,23 @@ TEST(Inspection, ComparisonMetrics) {
     EXPECT_EQ(same->max_abs, 0.0);
     EXPECT_FALSE(compare_images(a, Image(1, 2)));
     EXPECT_FALSE(compare_images(Image(), Image()));
+    EXPECT_EQ(c->non_finite, 0u);
+}
+
+TEST(Inspection, NonFinitePixelsAreCountedNotTakenForAMatch) {
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const Image broken = image_of(2, 1, {{nan, nan, nan}, {nan, 0.0f, 0.0f}});
+    const Image fine = image_of(2, 1, {{1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f}});
+    const std::optional<ImageComparison> none = compare_images(broken, fine);
+    ASSERT_TRUE(none);
+    EXPECT_EQ(none->samples, 0u);  // the panel says "no finite pixels to compare", not "RMSE 0"
+    EXPECT_EQ(none->non_finite, 2u);
+    const Image half = image_of(2, 1, {{1.0f, 1.0f, 1.0f}, {0.0f, inf, 0.0f}});
+    const std::optional<ImageComparison> some = compare_images(fine, half);
+    ASSERT_TRUE(some);
+    EXPECT_EQ(some->samples, 1u);
+    EXPECT_EQ(some->non_finite, 1u);
+    EXPECT_EQ(some->rmse, 0.0);
 }
 
 TEST(Inspection, RelativeErrorAndHeatRamp) {

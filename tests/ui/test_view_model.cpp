@@ -454,5 +454,47 @@ TEST(ViewArguments, ParsesTheViewCommandLine) {
     EXPECT_FALSE(parse_view_arguments({}).scripted());
 }
 
+std::string argument_error(const std::vector<std::string>& args) {
+    try {
+        parse_view_arguments(args);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(accepted)";
+}
+
+TEST(ViewArguments, NonFiniteNumbersAndTwoScenesAreRefusedByName) {
+    EXPECT_EQ(argument_error({"--orbit", "nan,0"}), "--orbit nan: expects a finite number");
+    EXPECT_EQ(argument_error({"--orbit", "0,inf"}), "--orbit inf: expects a finite number");
+    EXPECT_EQ(argument_error({"--orbit=1e999,0"}), "--orbit 1e999: expects a finite number");
+    EXPECT_EQ(argument_error({"a.lua", "b.lua"}), "one scene at a time, got 'a.lua' and 'b.lua'");  // main adds "caustica view: "
+}
+
+TEST(ViewArguments, SnapshotTargetIsCheckedBeforeRendering) {
+    TempFolder folder;
+    EXPECT_EQ(snapshot_target_problem(folder.file("shot.png")), "");
+    EXPECT_EQ(snapshot_target_problem(folder.file("none/shot.png")),
+              folder.file("none/shot.png") + ": the folder " + folder.file("none") + " does not exist");
+    std::filesystem::create_directories(folder.file("dir.png"));
+    EXPECT_EQ(snapshot_target_problem(folder.file("dir.png")), folder.file("dir.png") + ": is a folder, not a file");
+    const std::string plain = folder.write("plain", "x");
+    EXPECT_EQ(snapshot_target_problem(plain + "/shot.png"), plain + "/shot.png: " + plain + " is not a folder");
+}
+
+TEST(ViewArguments, AScriptedRunEndingWithAnErrorShownExitsTwo) {
+    EXPECT_EQ(scripted_exit_code(true, "", false), 0);
+    EXPECT_EQ(scripted_exit_code(true, "a.lua:3: gr.render: eye ...", false), 2);  // the scene shown is not the one asked
+    EXPECT_EQ(scripted_exit_code(false, "", false), 2);
+    EXPECT_EQ(scripted_exit_code(true, "", true), 1);
+    // A scene that loads and fails when its render is prepared leaves an error to exit with.
+    TempFolder folder;
+    const std::string scene = folder.write("far.lua", "local s = gr.sphere('s'); s:set_material(gr.material({0.8, 0.2, 0.2}, {0, 0, 0}, 10))\n"
+                                                      "gr.render(s, 'far.png', 8, 8, {0, 0, 1e20}, {0, 0, -1}, {0, 1, 0}, 50, {0.1, 0.1, 0.1}, {})\n");
+    ViewModel model(test_config());
+    model.open(scene);
+    ASSERT_TRUE(run_until(model, [&] { return !model.loading() && !model.error().empty(); }, 30.0));
+    EXPECT_EQ(scripted_exit_code(model.has_scene(), model.error(), false), 2) << model.error();
+}
+
 }  // namespace
 }  // namespace caustica::ui

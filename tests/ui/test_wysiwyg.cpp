@@ -13,8 +13,11 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -386,7 +389,7 @@ TEST(Wysiwyg, BookmarksPersistAndACorruptFileIsIgnoredWithAWarning) {
     }
     CameraBookmarks marks(file);
     EXPECT_EQ(marks.of("/s/one.lua").size(), 3u);
-    EXPECT_EQ(marks.warning(), file + ": 3 unreadable lines ignored (first: line 3)");
+    EXPECT_EQ(marks.warning(), file + ": 3 unreadable lines ignored (kept in the file as they are; first: line 3)");
     {
         std::ofstream out(file, std::ios::trunc);
         out << std::string((1 << 20) + 1, 'x');
@@ -394,6 +397,173 @@ TEST(Wysiwyg, BookmarksPersistAndACorruptFileIsIgnoredWithAWarning) {
     CameraBookmarks huge(file);
     EXPECT_TRUE(huge.of("/s/one.lua").empty());
     EXPECT_EQ(huge.warning(), file + ": larger than 1 MiB; camera bookmarks ignored");
+}
+
+/// The names of the files in `folder`, sorted.
+std::vector<std::string> files_in(const fs::path& folder) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(folder)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+std::string file_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(Wysiwyg, BookmarksOfTwoPreviewsHandEditsAndOddScenePathsSurviveASave) {
+    TempFolder folder;
+    const std::string file = folder.file("camera-bookmarks");
+    CameraDesc a;
+    a.eye = {1.0, 2.0, 3.0};
+    a.view = {0.0, 0.0, -1.0};
+    CameraDesc b = a;
+    b.eye.x = -4.5;
+    const std::string hand_edit = "/s/one.lua\thand\t1 2 3 0 0 -1 0 1 0 45 extra";
+    {
+        std::ofstream out(file);
+        out << "/s/one.lua\tfront\t1 2 3 0 0 -1 0 1 0 45\n" << hand_edit << "\n";
+    }
+    // Two windows opened before either saved: each keeps the other's bookmark.
+    CameraBookmarks first(file), second(file);
+    EXPECT_TRUE(first.set("/s/one.lua", "from first", a));
+    EXPECT_TRUE(second.set("/s/one.lua", "from second", b));
+    second.remove("/s/one.lua", "front");
+    const std::string odd = "/s/we\nird\tname\\x.lua";  // line break, tab and backslash in a path
+    EXPECT_TRUE(first.set(odd, "v", b));
+    EXPECT_EQ(first.warning(), file + ": 1 unreadable line ignored (kept in the file as it is; first: line 1)");  // "front" removed above it
+    CameraBookmarks again(file);
+    const auto one = again.of("/s/one.lua");
+    ASSERT_EQ(one.size(), 2u);
+    EXPECT_EQ(one[0].first, "from first");
+    EXPECT_EQ(one[0].second.eye, a.eye);
+    EXPECT_EQ(one[1].first, "from second");
+    EXPECT_EQ(one[1].second.eye, b.eye);
+    ASSERT_EQ(again.of(odd).size(), 1u);
+    EXPECT_EQ(again.of(odd)[0].second.eye, b.eye);
+    const std::string text = file_text(file);
+    EXPECT_NE(text.find(hand_edit + "\n"), std::string::npos) << text;  // verbatim, in its place
+    EXPECT_NE(text.find("\n/s/we\\nird\\tname\\\\x.lua\tv\t-4.5 2 3 0 0 -1 0 1 0 "), std::string::npos) << text;
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 4);
+    EXPECT_EQ(files_in(folder.path()), std::vector<std::string>{"camera-bookmarks"});  // no temporary left
+}
+
+TEST(Wysiwyg, ABookmarksFileThatWasNotReadIsNeverWrittenOver) {
+    TempFolder folder;
+    CameraDesc a;
+    a.eye = {1.0, 2.0, 3.0};
+    a.view = {0.0, 0.0, -1.0};
+    const std::string big = folder.file("big");
+    const std::string contents = std::string((1 << 20) + 1, 'x');
+    {
+        std::ofstream out(big);
+        out << contents;
+    }
+    CameraBookmarks marks(big);
+    EXPECT_EQ(marks.warning(), big + ": larger than 1 MiB; camera bookmarks ignored");
+    EXPECT_TRUE(marks.set("/s/a.lua", "front", a));
+    EXPECT_EQ(marks.of("/s/a.lua").size(), 1u);  // kept for the session
+    EXPECT_EQ(marks.warning(), big + ": larger than 1 MiB; it was not read, so it is not written over either: this "
+                                     "bookmark lasts until the preview closes");
+    EXPECT_EQ(file_text(big), contents);
+
+    const std::string fifo = folder.file("fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    CameraBookmarks piped(fifo);  // returns at once: no writer is waited for
+    EXPECT_EQ(piped.warning(), fifo + ": is a named pipe (FIFO), not a regular file; camera bookmarks ignored");
+    EXPECT_TRUE(piped.set("/s/a.lua", "front", a));
+    EXPECT_TRUE(fs::is_fifo(fifo));
+    EXPECT_EQ(files_in(folder.path()), (std::vector<std::string>{"big", "fifo"}));
+}
+
+TEST(Wysiwyg, ARecentScenesFileThatIsNotASmallRegularFileIsNeitherReadNorWritten) {
+    TempFolder folder;
+    const std::string zero = folder.file("zero");
+    fs::create_symlink("/dev/zero", zero);
+    const std::string fifo = folder.file("fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string big = folder.file("big");
+    {
+        std::ofstream out(big);
+        out << "/s/a.lua\n" << std::string(recent_file_limit, 'y') << "\n";
+    }
+    const auto started = std::chrono::steady_clock::now();
+    for (const auto& [file, problem] : std::vector<std::pair<std::string, std::string>>{
+             {zero, "is a device or socket, not a regular file"},
+             {fifo, "is a named pipe (FIFO), not a regular file"},
+             {big, "larger than 1 MiB"},
+             {folder.path().string(), "is a folder, not a file"}}) {
+        SceneSource source(LoadSettings{}, file);
+        EXPECT_TRUE(source.recent().empty()) << file;
+        EXPECT_EQ(source.warning(), file + ": " + problem + "; the recent scenes list is not read or kept");
+        source.add_recent("/s/b.lua");  // remembered for the session, the file left alone
+        EXPECT_EQ(source.recent(), std::vector<std::string>{"/s/b.lua"});
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 2.0);
+    EXPECT_TRUE(fs::is_fifo(fifo));
+    EXPECT_TRUE(fs::is_symlink(zero));
+    EXPECT_EQ(fs::file_size(big), recent_file_limit + 10);
+    EXPECT_EQ(files_in(folder.path()), (std::vector<std::string>{"big", "fifo", "zero"}));
+
+    const std::string good = folder.file("config/recent-scenes");
+    {
+        SceneSource source(LoadSettings{}, good);
+        EXPECT_EQ(source.warning(), "");
+        source.add_recent("/s/a.lua");
+        source.add_recent("/s/b.lua");
+    }
+    EXPECT_EQ(file_text(good), "/s/b.lua\n/s/a.lua\n");
+    SceneSource source(LoadSettings{}, good);
+    EXPECT_EQ(source.recent(), (std::vector<std::string>{"/s/b.lua", "/s/a.lua"}));
+    EXPECT_EQ(files_in(folder.file("config")), std::vector<std::string>{"recent-scenes"});
+}
+
+TEST(Wysiwyg, ASceneThatIsNotAFileSaysWhatItIs) {
+    TempFolder folder;
+    const std::string fifo = folder.file("pipe.lua");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    EXPECT_EQ(not_a_scene_file(fifo), fifo + ": is a named pipe (FIFO), not a scene file");
+    EXPECT_EQ(not_a_scene_file(folder.path().string()), folder.path().string() + ": is a folder, not a scene file");
+    EXPECT_EQ(not_a_scene_file("/dev/null"), "/dev/null: is a device, not a scene file");
+    EXPECT_EQ(not_a_scene_file(folder.file("none.lua")), folder.file("none.lua") + ": no such scene file");
+    ViewModel model(config_with({}));
+    model.open(fifo);  // opening it from the panel says the same, without blocking on the pipe
+    ASSERT_TRUE(run_until(model, [&] { return !model.loading() && !model.error().empty(); }, 10.0));
+    EXPECT_EQ(model.error(), fifo + ": is a named pipe (FIFO), not a scene file");
+}
+
+TEST(Wysiwyg, ResetAllMidDragWithNothingToResetKeepsTheDragsUndoStep) {
+    TempFolder folder;
+    const std::string scene = folder.write("box.lua", tiny_box(0));
+    ViewModel model(config_with({}));
+    model.open(scene);
+    ASSERT_TRUE(loaded(model, scene));
+    model.reset_difference("all");  // nothing chosen: no step
+    EXPECT_FALSE(model.can_undo());
+    model.set_preset("draft");
+    model.set_coalescing(true);  // a drag that ends where it began
+    model.set_preset("");
+    model.reset_difference("all");
+    model.set_coalescing(false);
+    ASSERT_TRUE(model.can_undo());
+    model.undo();
+    EXPECT_EQ(model.preset(), "draft");
+    model.undo();
+    EXPECT_EQ(model.preset(), "");
+    EXPECT_FALSE(model.can_undo());
+
+    model.set_preset("draft");  // reset all while a drag is open is a step of its own
+    model.set_coalescing(true);
+    CausticKnobs k = model.knobs();
+    k.num_neighbours = 7;
+    model.set_knobs(k);
+    model.reset_difference("all");
+    model.set_coalescing(false);
+    EXPECT_EQ(model.preset(), "");
+    model.undo();
+    EXPECT_EQ(model.preset(), "draft");
+    EXPECT_EQ(model.knobs().num_neighbours, 7);
 }
 
 TEST(Wysiwyg, BookmarkedCameraIsShownAndKeptAcrossAReload) {
