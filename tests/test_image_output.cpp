@@ -4,6 +4,7 @@
 #include "core/io/png_io.h"
 #include "core/io/tonemap.h"
 #include "core/scene/source_location.h"
+#include "core/util/sanitized.h"
 #include "temp_folder.h"
 
 #include <ImfChannelList.h>
@@ -11,11 +12,13 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfStringAttribute.h>
+#include <ImfTiledOutputFile.h>
 #include <Imath/half.h>
 
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -23,6 +26,8 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <optional>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -273,6 +278,213 @@ TEST(Exr, CorruptTruncatedAndOversizedFilesFailNamingTheFile) {
               folder.file("good.exr") + ": 64 x 48 pixels is more than the 1000-pixel image budget");
 }
 
+// --- Hostile OpenEXR headers: OpenEXR allocates what an attribute declares before it finds the
+// file too short, so our header walk must refuse those sizes first (fast, bounded memory).
+
+namespace {
+
+std::string le32(std::int32_t v) {
+    const std::uint32_t u = static_cast<std::uint32_t>(v);
+    const char b[4] = {char(u & 0xff), char(u >> 8 & 0xff), char(u >> 16 & 0xff), char(u >> 24 & 0xff)};
+    return std::string(b, 4);
+}
+
+std::string attribute(const std::string& name, const std::string& type, const std::string& data,
+                      std::optional<std::int32_t> size = std::nullopt) {
+    return name + '\0' + type + '\0' + le32(size ? *size : std::int32_t(data.size())) + data;
+}
+
+/// Offset of the NUL that ends the (single-part) header of an EXR file's bytes.
+std::size_t header_end(const std::string& b) {
+    std::size_t at = 8;
+    for (;;) {
+        const std::size_t name_end = b.find('\0', at);
+        if (name_end == at) return at;
+        const std::size_t type_end = b.find('\0', name_end + 1);
+        std::int32_t size;
+        std::memcpy(&size, b.data() + type_end + 1, 4);
+        at = type_end + 5 + std::size_t(size);
+    }
+}
+
+/// `exr` (a scan-line file of `chunks` chunks, as our writer makes) with `extra` appended to its
+/// header and its chunk offsets moved along: still a valid file.
+std::string with_attributes(const std::string& exr, const std::string& extra, int chunks) {
+    const std::size_t end = header_end(exr);
+    std::string out = exr.substr(0, end) + extra + exr.substr(end);
+    for (int i = 0; i < chunks; ++i) {
+        std::uint64_t offset;
+        char* at = out.data() + end + extra.size() + 1 + 8 * i;
+        std::memcpy(&offset, at, 8);
+        offset += extra.size();
+        std::memcpy(at, &offset, 8);
+    }
+    return out;
+}
+
+/// Runs `read` and returns its InputError message ("" when it read), failing when it took 0.5 s or more.
+template <class Read>
+std::string fast_error(const std::string& path, Read read) {
+    const auto start = std::chrono::steady_clock::now();
+    std::string message;
+    try {
+        read(path);
+    } catch (const InputError& e) {
+        message = e.what();
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 0.5) << path;
+    return message;
+}
+
+}  // namespace
+
+TEST(ExrHostile, ForgedAttributeSizesFailFastNamingTheFileAndTheAttribute) {
+    const TempFolder folder("caustica_output");
+    // 29 bytes: magic, version 2, one string attribute claiming 2^31 - 1 bytes.
+    const std::string tiny = folder.write(
+        "tiny.exr", std::string("\x76\x2f\x31\x01\x02\0\0\0", 8) + attribute("a", "string", std::string(8, '\0'), 0x7fffffff));
+    ASSERT_EQ(file_bytes(tiny).size(), 29u);
+    EXPECT_EQ(fast_error(tiny, [](const std::string& p) { read_image_file(p); }),
+              tiny + ": header attribute 'a' claims 2147483647 bytes, the file has 8 left");
+    EXPECT_EQ(fast_error(tiny, read_exr_metadata), tiny + ": header attribute 'a' claims 2147483647 bytes, the file has 8 left");
+
+    write_exr_atomic(folder.file("good.exr"), test_image(7, 5), ExrPixel::half, {{"note", "hello"}});
+    const std::string good = file_bytes(folder.file("good.exr"));
+    const std::int32_t huge = 0x7fffffff;
+    const std::string sv = le32(3) + "abc" + le32(2) + "de";
+    const std::pair<std::string, std::string> cases[] = {
+        {"string", attribute("s", "string", "hello", huge)},
+        {"stringvector", attribute("sv", "stringvector", sv, huge)},
+        {"floatvector", attribute("fv", "floatvector", std::string(12, '\0'), huge)},
+        {"unknown type", attribute("zz", "someothertype", "1234", huge)},
+        {"negative", attribute("n", "string", "x", -1)},
+    };
+    for (const auto& [what, extra] : cases) {
+        const std::string bytes = with_attributes(good, extra, 1);
+        const std::string path = folder.write("forged.exr", bytes);
+        const std::string name = extra.substr(0, extra.find('\0'));
+        const std::size_t left = bytes.size() - (header_end(good) + extra.find('\0', name.size() + 1) + 5);
+        const std::string expected = path + ": header attribute '" + name + "' claims " +
+                                     (what == "negative" ? "-1" : "2147483647") + " bytes, the file has " +
+                                     std::to_string(left) + " left";
+        EXPECT_EQ(fast_error(path, [](const std::string& p) { read_image_file(p); }), expected) << what;
+        EXPECT_EQ(fast_error(path, read_exr_metadata), expected) << what;
+    }
+
+    // An attribute of the valid file itself (our "note") with its size forged.
+    std::string forged = good;
+    const std::string key = std::string("note\0string\0", 12);
+    const std::size_t at = forged.find(key);
+    ASSERT_NE(at, std::string::npos);
+    forged.replace(at + key.size(), 4, le32(huge));
+    const std::string note = folder.write("note.exr", forged);
+    EXPECT_EQ(fast_error(note, [](const std::string& p) { read_image_file(p); }),
+              note + ": header attribute 'note' claims 2147483647 bytes, the file has " +
+                  std::to_string(good.size() - (at + key.size() + 4)) + " left");
+
+    // Sizes inside an attribute: a string vector element, a preview image, a chunk count.
+    const std::string element = folder.write("element.exr", with_attributes(good, attribute("sv", "stringvector", le32(huge) + "abcd"), 1));
+    EXPECT_EQ(fast_error(element, [](const std::string& p) { read_image_file(p); }),
+              element + ": header attribute 'sv' holds a string of 2147483647 bytes, the attribute has 4 left");
+    const std::string preview = folder.write("preview.exr", with_attributes(good, attribute("pv", "preview", le32(50000) + le32(50000) + "12345678"), 1));
+    EXPECT_EQ(fast_error(preview, [](const std::string& p) { read_image_file(p); }),
+              preview + ": header attribute 'pv' claims a 50000 x 50000 preview image in 8 bytes");
+    const std::string chunks = folder.write("chunks.exr", with_attributes(good, attribute("chunkCount", "int", le32(huge)), 1));
+    EXPECT_EQ(fast_error(chunks, [](const std::string& p) { read_image_file(p); }).rfind(chunks + ": header attribute 'chunkCount' claims 2147483647 chunks", 0), 0u);
+
+    // Names without their NUL, too many attributes, a header over 16 MiB, deep data.
+    const std::string unterminated = folder.write("name.exr", std::string("\x76\x2f\x31\x01\x02\0\0\0", 8) + std::string(64, 'n'));
+    EXPECT_EQ(fast_error(unterminated, [](const std::string& p) { read_image_file(p); }),
+              unterminated + ": an OpenEXR header attribute name is longer than 31 bytes (or not NUL-terminated)");
+    std::string many;
+    for (int i = 0; i < 1100; ++i) many += attribute(std::string("a").append(std::to_string(i)), "int", le32(i));
+    const std::string crowd = folder.write("crowd.exr", with_attributes(good, many, 1));
+    EXPECT_EQ(fast_error(crowd, [](const std::string& p) { read_image_file(p); }),
+              crowd + ": more than 1024 attributes in an OpenEXR header");
+    const std::string big = folder.write("big.exr", with_attributes(good, attribute("big", "string", std::string(17 << 20, 'x')), 1));
+    EXPECT_EQ(fast_error(big, [](const std::string& p) { read_image_file(p); }), big + ": the OpenEXR header is larger than 16 MiB");
+    std::string deep_bytes = good;
+    deep_bytes[5] = char(deep_bytes[5] | 0x08);  // version bit 11: non-image (deep) data
+    const std::string deep = folder.write("deep.exr", deep_bytes);
+    EXPECT_EQ(fast_error(deep, [](const std::string& p) { read_image_file(p); }), deep + ": deep OpenEXR images are not supported");
+}
+
+TEST(ExrHostile, ForgedAttributesAreRefusedWithinBoundedMemory) {
+    // Deterministic, not timing: a child process limited to its current address space + 256 MiB
+    // reads the 29-byte bomb; OpenEXR alone would try 2 GiB (and fail with "not enough memory",
+    // which is why the child insists on the header walk's message). ASan reserves terabytes of
+    // address space, so RLIMIT_AS cannot be used there.
+    if (sanitized_build) GTEST_SKIP() << "RLIMIT_AS does not work under sanitizers";
+    const TempFolder folder("caustica_output");
+    const std::string tiny = folder.write(
+        "tiny.exr", std::string("\x76\x2f\x31\x01\x02\0\0\0", 8) + attribute("a", "floatvector", std::string(8, '\0'), 0x7fffffff));
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        long pages = 0;
+        if (FILE* statm = std::fopen("/proc/self/statm", "r")) {
+            if (std::fscanf(statm, "%ld", &pages) != 1) pages = 0;
+            std::fclose(statm);
+        }
+        const rlim_t limit = rlim_t(pages) * rlim_t(::sysconf(_SC_PAGESIZE)) + (rlim_t(256) << 20);
+        const struct rlimit r{limit, limit};
+        if (pages == 0 || ::setrlimit(RLIMIT_AS, &r) != 0) ::_exit(3);
+        try {
+            read_image_file(tiny);
+        } catch (const InputError& e) {
+            ::_exit(std::string(e.what()).find("header attribute 'a' claims 2147483647 bytes") != std::string::npos ? 0 : 1);
+        } catch (...) {
+            ::_exit(2);
+        }
+        ::_exit(4);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0);
+}
+
+TEST(ExrHostile, ValidFilesWithOtherAttributeKindsAndTilesStillRead) {
+    const TempFolder folder("caustica_output");
+    const Image image = test_image(7, 40);  // 40 rows: 3 ZIP chunks of 16 lines
+    write_exr_atomic(folder.file("f.exr"), image, ExrPixel::float32, {{"note", "hello"}});
+    const std::string extra = attribute("sv", "stringvector", le32(3) + "abc" + le32(0) + le32(2) + "de") +
+                              attribute("fv", "floatvector", std::string(12, '\0')) +
+                              attribute("pv", "preview", le32(2) + le32(1) + "rgbargba") +
+                              attribute("chunkCount", "int", le32(3));
+    const std::string path = folder.write("multi.exr", with_attributes(file_bytes(folder.file("f.exr")), extra, 3));
+    EXPECT_EQ(read_with_openexr(path).pixels, image.pixels);  // the file is valid for OpenEXR itself
+    EXPECT_EQ(read_image_file(path).pixels, image.pixels);
+    EXPECT_EQ(read_exr_metadata(path), (ImageMetadata{{"note", "hello"}}));
+
+    // A tiled file of 1 x 1 tiles reads; the same header with a forged 8000 x 8000 data window
+    // (within the pixel budget) would make OpenEXR allocate 64 M tile offsets: refused.
+    {
+        Imf::Header header(16, 16);
+        header.channels().insert("R", Imf::Channel(Imf::FLOAT));
+        header.setTileDescription(Imf::TileDescription(1, 1, Imf::ONE_LEVEL));
+        Imf::TiledOutputFile out(folder.file("tiled.exr").c_str(), header, 1);
+        std::vector<float> red(256);
+        for (int i = 0; i < 256; ++i) red[i] = float(i);
+        Imf::FrameBuffer frame;
+        frame.insert("R", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(red.data()), 4, 64));
+        out.setFrameBuffer(frame);
+        out.writeTiles(0, 15, 0, 15);
+    }
+    const Image tiled = read_image_file(folder.file("tiled.exr"));
+    EXPECT_EQ(tiled.at(3, 2), glm::vec3(35.0f, 0.0f, 0.0f));
+    std::string forged = file_bytes(folder.file("tiled.exr"));
+    const std::string key = std::string("dataWindow\0box2i\0", 17);
+    const std::size_t at = forged.find(key);
+    ASSERT_NE(at, std::string::npos);
+    forged.replace(at + key.size() + 4, 16, le32(0) + le32(0) + le32(7999) + le32(7999));
+    const std::string many_tiles = folder.write("tiles.exr", forged);
+    EXPECT_EQ(fast_error(many_tiles, [](const std::string& p) { read_image_file(p); }).rfind(
+                  many_tiles + ": the OpenEXR tiles need 64000000 chunk offsets (512000000 bytes), the file has ", 0),
+              0u);
+}
+
 // --- PFM
 
 TEST(Pfm, RoundTripIsExactAndTheFileRunsBottomToTop) {
@@ -335,6 +547,34 @@ TEST(Pfm, HostileHeadersAndTruncationFailBeforeAllocating) {
     const std::string other = folder.write("x.pfm", "P6\n1 1\n255\nabc");
     EXPECT_EQ(read_error(other), other + ": not a PNG, OpenEXR or PFM file");
     EXPECT_EQ(read_error(folder.write("e.pfm", "")), folder.file("e.pfm") + ": the file is empty");
+}
+
+TEST(Pfm, LongWhiteSpaceInTheHeaderAndACrLfAfterTheScale) {
+    const TempFolder folder("caustica_output");
+    const float values[3] = {1.5f, -2.0f, 1e9f};
+    const std::string data(reinterpret_cast<const char*>(values), 12);
+    // Any white space between the fields (here 600 bytes), as long as the header fits in 4 KiB.
+    const std::string spaced = folder.write("w.pfm", "PF" + std::string(300, ' ') + "1" + std::string(300, '\n') + "1 -1\n" + data);
+    EXPECT_EQ(read_image_file(spaced).at(0, 0), glm::vec3(1.5f, -2.0f, 1e9f));
+    const std::string endless = folder.write("x.pfm", "PF" + std::string(5000, ' ') + "1 1 -1\n" + data);
+    EXPECT_EQ(read_error(endless), endless + ": the PFM header is longer than 4096 bytes");
+    // "\r\n" after the scale: a two-byte separator when exactly the pixel data follows it...
+    const std::string crlf = folder.write("crlf.pfm", "PF\r\n1 1\r\n-1\r\n" + data);
+    EXPECT_EQ(read_image_file(crlf).at(0, 0), glm::vec3(1.5f, -2.0f, 1e9f));
+    // ...otherwise the format's one byte: here the '\n' is the first byte of the data.
+    float first;
+    const std::string starts_with_newline = "\n" + data.substr(0, 11);
+    std::memcpy(&first, starts_with_newline.data(), 4);
+    const std::string cr = folder.write("cr.pfm", "PF\n1 1\n-1\r" + starts_with_newline);
+    const glm::vec3 read = read_image_file(cr).at(0, 0);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(read.x), std::bit_cast<std::uint32_t>(first));
+    float second;
+    std::memcpy(&second, starts_with_newline.data() + 4, 4);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(read.y), std::bit_cast<std::uint32_t>(second));
+    // One byte too many after "\r\n" is neither: the data is one byte longer than 12 with either reading.
+    const std::string extra = folder.write("e2.pfm", "PF\n1 1\n-1\r\n" + data + "z");
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(read_image_file(extra).at(0, 0).x),
+              std::bit_cast<std::uint32_t>(std::bit_cast<float>(std::uint32_t(0x0a) | std::bit_cast<std::uint32_t>(1.5f) << 8)));
 }
 
 TEST(Png, ReadsAsLinearOrSrgbDecodedFloats) {

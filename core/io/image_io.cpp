@@ -52,17 +52,25 @@ std::size_t read_at(int fd, void* out, std::size_t count, std::uint64_t offset) 
 // ---------------------------------------------------------------------------------------------
 // PFM: "PF" (RGB) or "Pf" (gray), white space, width, white space, height, white space, scale
 // (negative: little-endian floats, positive: big-endian; its magnitude is ignored here, as by most
-// readers), one white-space byte, then the rows from the bottom of the image to the top.
+// readers), one white-space byte, then the rows from the bottom of the image to the top. Writers on
+// Windows may end the scale with "\r\n": that pair is taken as the separator only when the bytes
+// after it are exactly the pixel data (otherwise the "\n" is the data's first byte, as the format
+// says).
+
+/// The most header text read (any white space between the fields is allowed up to this).
+constexpr std::size_t max_pfm_header = 4096;
 
 struct PfmHeader {
     int width = 0, height = 0, channels = 0;
     bool little_endian = true;
     std::size_t data_offset = 0;
+    bool crlf = false;  ///< the scale ends with "\r\n" (see above)
 };
 
 bool is_pfm_space(unsigned char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
-PfmHeader parse_pfm_header(const std::string& path, const unsigned char* bytes, std::size_t size,
+/// `size` bytes of the file's start; `whole` when they are the whole file.
+PfmHeader parse_pfm_header(const std::string& path, const unsigned char* bytes, std::size_t size, bool whole,
                            const ImageReadLimits& limits) {
     auto fail = [&](const std::string& why) -> InputError { return InputError(path + ": " + why); };
     if (size < 2 || bytes[0] != 'P' || (bytes[1] != 'F' && bytes[1] != 'f')) throw fail("not a PFM file");
@@ -75,6 +83,8 @@ PfmHeader parse_pfm_header(const std::string& path, const unsigned char* bytes, 
         if (spaces == 0) throw fail(std::string("malformed PFM header: no white space before the ") + what);
         const std::size_t start = at;
         while (at < size && !is_pfm_space(bytes[at])) ++at;
+        if ((at == start || at == size) && !whole)
+            throw fail("the PFM header is longer than " + std::to_string(max_pfm_header) + " bytes");
         if (at == start || at == size) throw fail(std::string("truncated PFM header: no ") + what);
         return std::string(reinterpret_cast<const char*>(bytes + start), at - start);
     };
@@ -96,6 +106,7 @@ PfmHeader parse_pfm_header(const std::string& path, const unsigned char* bytes, 
         throw fail("PFM header: the scale '" + scale_text.substr(0, 20) + "' is not a non-zero number");
     h.little_endian = scale < 0.0;
     h.data_offset = at + 1;  // exactly one white-space byte ends the header
+    h.crlf = bytes[at] == '\r' && at + 1 < size && bytes[at + 1] == '\n';
     const std::string dims = std::to_string(h.width) + " x " + std::to_string(h.height) + " pixels";
     if (std::uint64_t(h.width) * std::uint64_t(h.height) > limits.max_pixels)
         throw fail(dims + " is more than the " + std::to_string(limits.max_pixels) + "-pixel image budget");
@@ -107,11 +118,12 @@ PfmHeader parse_pfm_header(const std::string& path, const unsigned char* bytes, 
 Image read_pfm(const std::string& path, const ImageReadLimits& limits) {
     Descriptor d;
     const std::uint64_t file_size = open_regular(path, d);
-    unsigned char head[128];
-    const std::size_t got = read_at(d.fd, head, sizeof head, 0);
-    const PfmHeader h = parse_pfm_header(path, head, got, limits);
+    std::vector<unsigned char> head(static_cast<std::size_t>(std::min<std::uint64_t>(file_size, max_pfm_header)));
+    const std::size_t got = read_at(d.fd, head.data(), head.size(), 0);
+    PfmHeader h = parse_pfm_header(path, head.data(), got, got == file_size, limits);
     const std::size_t row_floats = std::size_t(h.width) * std::size_t(h.channels);
     const std::uint64_t data_bytes = std::uint64_t(row_floats) * std::uint64_t(h.height) * 4;
+    if (h.crlf && file_size == h.data_offset + 1 + data_bytes) ++h.data_offset;
     // Before allocating: the file must hold every row it declares.
     if (file_size < h.data_offset || file_size - h.data_offset < data_bytes)
         throw InputError(path + ": truncated PFM: " + std::to_string(h.width) + " x " + std::to_string(h.height) +
