@@ -5,7 +5,7 @@
 set -euo pipefail
 packages=(build-essential cmake pkg-config ninja-build libglfw3-dev libimgui-dev libosmesa6-dev
           libglm-dev libpng-dev liblua5.4-dev libembree-dev libtbb-dev libnanoflann-dev
-          libstb-dev libgtest-dev libbenchmark-dev libcli11-dev libopenexr-dev xvfb xauth
+          libstb-dev libgtest-dev libbenchmark-dev libcli11-dev libopenexr-dev xvfb xauth xdotool
           povray gnuplot-nox clang libclang-rt-14-dev llvm)
 missing=()
 for p in "${packages[@]}"; do

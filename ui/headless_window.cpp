@@ -1,5 +1,6 @@
 #include "ui/headless_window.h"
 
+#include "ui/key_events.h"
 #include "ui/keys.h"
 
 #include <GL/osmesa.h>
@@ -65,6 +66,7 @@ HeadlessWindow::HeadlessWindow(int width, int height)
     io.DisplaySize = ImVec2(static_cast<float>(width), static_cast<float>(height));
     map_keys(io);
     apply_panel_style();
+    key_events().clear();
     // The backend's GL loader finds OSMesa through the dlopen/dlsym shim (osmesa_loader_shim.cpp).
     if (!ImGui_ImplOpenGL3_Init("#version 330 core")) {
         ImGui::DestroyContext();
@@ -91,17 +93,48 @@ void HeadlessWindow::frame(ViewApp& app, const HeadlessInput& input) {
     io.MouseWheel = input.wheel;
     io.KeyCtrl = input.ctrl;
     io.KeyShift = input.shift;
+    // A key listed in this frame but not the last is a new press (for ViewApp's key queue too);
+    // one listed in both is held: no second press, no auto-repeat.
+    const int mods = (input.ctrl ? key_mods::ctrl : 0) | (input.shift ? key_mods::shift : 0);
+    for (int key : input.keys)
+        if (std::find(released_.begin(), released_.end(), key) == released_.end()) key_events().press(key, mods);
+    for (int key : input.taps) {
+        key_events().press(key, mods);
+        key_events().release(key);
+    }
+    key_events().begin_frame();
     for (int key : released_) io.KeysDown[key] = false;
+    for (int key : key_events().lifts()) io.KeysDown[key] = false;
+    for (int key : key_events().taps()) io.KeysDown[key] = true;  // down for this frame, as the window shows taps
     for (int key : input.keys) io.KeysDown[key] = true;
     released_ = input.keys;
 
+    using ms = std::chrono::duration<double, std::milli>;
     ImGui_ImplOpenGL3_NewFrame();
     ImGui::NewFrame();
     app.frame(glm::vec2(width_, height_));
     ImGui::Render();
+    const auto built = std::chrono::steady_clock::now();
+    times_.build = ms(built - now).count();
+    drawn_ = !(skip_for_ && skipper_.may_skip(skip_for_->driver()) && skipping_);
+    if (!drawn_) {
+        times_.draw = times_.draw_image = 0.0;
+        return;
+    }
     app.draw(glm::vec2(width_, height_), width_, height_);
+    if (measure_draw_) glFinish();  // separates the image's share (costs a little parallelism)
+    const auto image_drawn = std::chrono::steady_clock::now();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     glFinish();
+    skipper_.drawn();
+    times_.draw = ms(std::chrono::steady_clock::now() - built).count();
+    times_.draw_image = ms(image_drawn - built).count();
+}
+
+void HeadlessWindow::skip_undrawable_frames(const ViewModel* model, bool on) {
+    if (model != skip_for_) skipper_ = FrameSkipper();
+    skip_for_ = model;
+    skipping_ = on;
 }
 
 std::vector<unsigned char> HeadlessWindow::pixels() const {

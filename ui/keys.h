@@ -5,10 +5,10 @@
 namespace caustica::ui::keys {
 
 /// Printable keys: their upper-case ASCII codes.
-inline constexpr int space = 32, minus = 45, equal = 61;
+inline constexpr int space = 32, minus = 45, one = 49, equal = 61;
 /// Letters used by the preview and by ImGui's text fields.
-inline constexpr int a = 65, c = 67, d = 68, e = 69, g = 71, h = 72, o = 79, p = 80, q = 81, r = 82, s = 83, v = 86,
-                     x = 88, y = 89, z = 90;
+inline constexpr int a = 65, b = 66, c = 67, d = 68, e = 69, f = 70, g = 71, h = 72, o = 79, p = 80, q = 81, r = 82,
+                     s = 83, v = 86, x = 88, y = 89, z = 90;
 /// Editing and navigation keys.
 inline constexpr int escape = 256, enter = 257, tab = 258, backspace = 259, insert = 260, del = 261;
 /// Arrow keys.

@@ -1,5 +1,6 @@
 // caustica-view-headless: the preview rendered off-screen with OSMesa, for tests and scripted
 // screenshots. `caustica view` execs this without a DISPLAY or with --headless.
+#include "ui/frame_pacing.h"
 #include "ui/headless_window.h"
 #include "ui/view_main.h"
 
@@ -12,6 +13,10 @@ namespace {
 using namespace caustica::ui;
 
 int run_headless(const ViewArguments& args) {
+    if (args.after_key) {  // nobody can press one: the run would only time out
+        std::fprintf(stderr, "caustica view: --after-key needs the window (keys); the headless preview has none\n");
+        return 2;
+    }
     HeadlessWindow window(args.width, args.height);
     ViewModel model(model_config(args));
     ViewApp app(model);
@@ -22,26 +27,18 @@ int run_headless(const ViewArguments& args) {
                              "--snapshot FILE.png keeps the window\n");
     }
     ScriptedRun run(scripted);
-    const auto frame_time = std::chrono::microseconds(16667);
-    auto next_frame = std::chrono::steady_clock::now();
+    window.skip_undrawable_frames(&model);  // a finished run's frames are drawn: the snapshot is the last
     for (;;) {
+        const auto frame_start = std::chrono::steady_clock::now();
         window.frame(app);
         if (run.done(model)) break;
-        next_frame += frame_time;  // 60 frames a second at most: the renderer needs the cores
-        const auto now = std::chrono::steady_clock::now();
-        if (next_frame > now) wait_for_frame(model, next_frame);
-        else next_frame = now;
+        wait_for_next_frame(model, frame_start);  // 60 frames a second at most: the renderer needs the cores
     }
     if (!args.snapshot.empty()) {
         write_snapshot(args.snapshot, window.pixels(), window.width(), window.height(), "osmesa");
         std::printf("wrote %s (%d x %d)\n", args.snapshot.c_str(), window.width(), window.height());
     }
-    if (!model.error().empty()) std::fprintf(stderr, "caustica view: %s\n", model.error().c_str());
-    if (run.timed_out()) {
-        std::fprintf(stderr, "caustica view: gave up waiting for the render\n");
-        return 1;
-    }
-    return model.has_scene() ? 0 : 2;
+    return scripted_exit_code(model, run);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 // caustica-view: the preview in a GLFW window (OpenGL 3.3 core through libOpenGL).
 // `caustica view` execs this when there is a DISPLAY and no --headless.
+#include "ui/frame_pacing.h"
+#include "ui/key_events.h"
 #include "ui/view_app.h"
 #include "ui/view_main.h"
 
@@ -31,6 +33,40 @@ void on_glfw_error(int code, const char* text) {
 void on_drop(GLFWwindow* window, int count, const char** paths) {
     auto* app = static_cast<ViewApp*>(glfwGetWindowUserPointer(window));
     if (app) app->drop(std::vector<std::string>(paths, paths + count));
+}
+
+/// Set by the callbacks when something arrived that the next frame should answer at once: a key,
+/// a button, the wheel, the pointer moving with a button held (a drag), a new window size.
+bool input_arrived = false;
+
+/// Records presses for ViewApp (ui/key_events.h); ImGui's GLFW backend, installed after this,
+/// chains to it and then updates io.KeysDown, which alone would lose a tap shorter than a frame.
+void on_key(GLFWwindow*, int key, int, int action, int mods) {
+    if (action == GLFW_PRESS || action == GLFW_REPEAT) key_events().press(key, mods, action == GLFW_REPEAT);
+    else if (action == GLFW_RELEASE) key_events().release(key);
+    input_arrived = true;
+}
+
+void on_mouse_button(GLFWwindow*, int, int, int) { input_arrived = true; }
+
+void on_scroll(GLFWwindow*, double, double) { input_arrived = true; }
+
+void on_framebuffer_size(GLFWwindow*, int, int) { input_arrived = true; }
+
+void on_cursor(GLFWwindow* window, double, double) {
+    for (int b = GLFW_MOUSE_BUTTON_1; b <= GLFW_MOUSE_BUTTON_3; ++b)
+        if (glfwGetMouseButton(window, b) == GLFW_PRESS) input_arrived = true;
+}
+
+/// Shows the keys tapped since the last frame down in io.KeysDown for this frame, so that ImGui's
+/// own widgets see the tap too, and lifts the last frame's taps (ui/key_events.h).
+void show_taps(GLFWwindow* window) {
+    ImGuiIO& io = ImGui::GetIO();
+    auto valid = [&](int key) { return key >= 0 && key < IM_ARRAYSIZE(io.KeysDown); };
+    for (int key : key_events().lifts())
+        if (valid(key) && glfwGetKey(window, key) != GLFW_PRESS) io.KeysDown[key] = false;
+    for (int key : key_events().taps())
+        if (valid(key)) io.KeysDown[key] = true;
 }
 
 void report_no_window() {
@@ -78,6 +114,13 @@ int run_window(const ViewArguments& args) {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // the layout is fixed: nothing to remember
     apply_panel_style();
+    key_events().clear();
+    // Ours before the backend's, which keeps them and calls them first.
+    glfwSetKeyCallback(window, on_key);
+    glfwSetMouseButtonCallback(window, on_mouse_button);
+    glfwSetScrollCallback(window, on_scroll);
+    glfwSetCursorPosCallback(window, on_cursor);
+    glfwSetFramebufferSizeCallback(window, on_framebuffer_size);
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
     int code = 0;
@@ -89,11 +132,18 @@ int run_window(const ViewArguments& args) {
         glfwSetDropCallback(window, on_drop);
         ScriptedRun run(args);
         std::string shown_scene;
-        const auto frame_time = std::chrono::microseconds(16667);  // Xvfb does not wait for vsync
-        auto next_frame = std::chrono::steady_clock::now();
+        FrameSkipper skipper;
+        const auto min_frame_interval = std::chrono::milliseconds(4);  // input never runs frames faster
+        bool polled_while_waiting = false;
         while (!glfwWindowShouldClose(window) && !app.quit_requested()) {
-            if (app.idle() && !args.scripted()) glfwWaitEventsTimeout(0.25);  // file changes are polled
+            // Idle, nothing renders: sleep until an event (file changes are polled 4 times a second),
+            // unless the last wait already took one in.
+            if (app.idle() && !args.scripted() && !polled_while_waiting) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
+            input_arrived = polled_while_waiting = false;
+            const auto frame_start = std::chrono::steady_clock::now();
+            key_events().begin_frame();
+            show_taps(window);
             ImGui_ImplOpenGL3_NewFrame();
             ImGui_ImplGlfw_NewFrame();
             ImGui::NewFrame();
@@ -106,21 +156,38 @@ int run_window(const ViewArguments& args) {
                 glfwSetWindowTitle(window, ("caustica view - " + shown_scene).c_str());
             }
             ImGui::Render();
-            app.draw(glm::vec2(width, height), fb_width, fb_height);
-            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            // A frame that would show the old image while a new view's coarse preview renders
+            // leaves the screen as it is: its software GL would slow that preview down.
+            bool drawn = !skipper.may_skip(model.driver());
+            if (drawn) {
+                app.draw(glm::vec2(width, height), fb_width, fb_height);
+                ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            }
             if (args.scripted() && run.done(model)) {
-                if (!args.snapshot.empty()) write_snapshot(args.snapshot, read_back_buffer(fb_width, fb_height), fb_width, fb_height, "glfw");
-                if (run.timed_out()) {
-                    std::fprintf(stderr, "caustica view: gave up waiting for the render\n");
-                    code = 1;
+                if (!drawn) {
+                    app.draw(glm::vec2(width, height), fb_width, fb_height);
+                    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
                 }
+                if (!args.snapshot.empty()) write_snapshot(args.snapshot, read_back_buffer(fb_width, fb_height), fb_width, fb_height, "glfw");
+                code = scripted_exit_code(model, run);  // as the headless run: an error shown exits 2
                 break;
             }
-            glfwSwapBuffers(window);
-            next_frame += frame_time;
-            const auto now = std::chrono::steady_clock::now();
-            if (next_frame > now) wait_for_frame(model, next_frame);
-            else next_frame = now;
+            if (drawn) {
+                glfwSwapBuffers(window);
+                skipper.drawn();
+            }
+            // Paced by the clock (Xvfb does not wait for vsync). While something renders, events are
+            // taken as they come: input that finds the image up to date (the start of a drag, a
+            // key) begins the next frame at once instead of up to a frame period later; during a
+            // drag, the coarse previews pace the frames. Idle, events wait for the blocking wait
+            // above, which answers them at once.
+            wait_for_next_frame(model, frame_start, FramePacing{}, [&] {
+                if (app.idle()) return false;
+                glfwPollEvents();
+                polled_while_waiting = true;  // events taken: the next frame must not block for more
+                return input_arrived && std::chrono::steady_clock::now() - frame_start >= min_frame_interval &&
+                       coarse_preview(model.driver()) == CoarsePreview::none;
+            });
         }
         glfwSetWindowUserPointer(window, nullptr);
     }
