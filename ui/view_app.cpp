@@ -26,7 +26,15 @@ constexpr double degrees_per_pixel = 0.3;
 constexpr double arrow_degrees = 5.0;
 
 /// From the platform's key queue, not ImGui::IsKeyPressed: that misses a tap shorter than a frame.
-bool pressed(int key, bool repeat = false) { return key_pressed(key, repeat); }
+/// A plain key (Shift allowed: Shift+E), with neither Ctrl, Alt nor Super held when it went down.
+bool pressed(int key, bool repeat = false) {
+    return key_pressed_with(key, 0, repeat) || key_pressed_with(key, key_mods::shift, repeat);
+}
+/// Ctrl+key (with `shift`: Ctrl+Shift+key), by the modifiers held at the press, so that a quick
+/// tap released before the frame reads io.KeyCtrl still counts and does not count as the plain key.
+bool ctrl_pressed(int key, bool shift = false, bool repeat = false) {
+    return key_pressed_with(key, key_mods::ctrl | (shift ? key_mods::shift : 0), repeat);
+}
 
 // Keys of the inspection tools (GLFW numbers: ASCII for letters and digits).
 constexpr int key_a = 65, key_b = 66, key_f = 70, key_i = 73, key_1 = 49;
@@ -99,19 +107,14 @@ void ViewApp::handle_mouse(glm::vec2 window) {
 
 void ViewApp::handle_keys() {
     const ImGuiIO& io = ImGui::GetIO();
-    if (io.KeyCtrl && pressed(keys::s)) request_save(model_, state_);
-    if (io.KeyCtrl && pressed(keys::q)) quit_ = true;  // Ctrl+Q
-    if (io.WantCaptureKeyboard || io.KeyCtrl) {
-        if (io.KeyCtrl && pressed(keys::e)) model_.display().exposure = 0.0f;
-        if (!io.WantCaptureKeyboard && io.KeyCtrl) {  // a text field keeps its own undo
-            if (pressed(keys::z, true)) {
-                if (io.KeyShift) model_.redo();
-                else model_.undo();
-            }
-            if (pressed(keys::y, true)) model_.redo();
-        }
-        return;
+    if (ctrl_pressed(keys::s)) request_save(model_, state_);
+    if (ctrl_pressed(keys::q)) quit_ = true;
+    if (ctrl_pressed(keys::e)) model_.display().exposure = 0.0f;
+    if (!io.WantCaptureKeyboard) {  // a text field keeps its own undo
+        if (ctrl_pressed(keys::z, false, true)) model_.undo();
+        if (ctrl_pressed(keys::z, true, true) || ctrl_pressed(keys::y, false, true)) model_.redo();
     }
+    if (io.WantCaptureKeyboard) return;
     if (pressed(keys::f1) || pressed(keys::h)) state_.show_help = !state_.show_help;
     if (pressed(keys::escape)) state_.show_help = false;
     if (pressed(keys::r) || pressed(keys::home)) model_.reset_camera();
