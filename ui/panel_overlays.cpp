@@ -7,6 +7,8 @@
 #include "ui/key_events.h"
 #include "ui/keys.h"
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 
@@ -17,7 +19,16 @@ constexpr ImGuiWindowFlags floating = ImGuiWindowFlags_NoDecoration | ImGuiWindo
                                       ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
                                       ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove;
 
-void status_line(const ViewModel& model) {
+/// " (shown x3)", " (shown at 50%)": how large the image is drawn, when not 1:1.
+std::string magnification(float scale) {
+    if (!(scale > 0.0f) || std::abs(scale - 1.0f) < 1e-3f) return {};
+    char text[48];
+    if (scale > 1.0f && std::abs(scale - std::round(scale)) < 1e-3f) std::snprintf(text, sizeof text, " (shown x%d)", int(std::lround(scale)));
+    else std::snprintf(text, sizeof text, " (shown at %.0f%%)", 100.0 * scale);
+    return text;
+}
+
+void status_line(const ViewModel& model, float scale) {
     ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f));
     ImGui::SetNextWindowBgAlpha(0.55f);
     ImGui::Begin("##status", nullptr, floating | ImGuiWindowFlags_NoInputs);
@@ -27,14 +38,14 @@ void status_line(const ViewModel& model) {
     if (driver.has_job()) {
         const std::string what = render_state(model);
         if (driver.job().options.accumulates()) {  // passes without end: the percentage means nothing
-            ImGui::Text("%s  %d x %d  %s  %.1f s", name.c_str(), driver.job().width, driver.job().height, what.c_str(),
-                        p.elapsed_seconds);
+            ImGui::Text("%s  %d x %d%s  %s  %.1f s", name.c_str(), driver.job().width, driver.job().height,
+                        magnification(scale).c_str(), what.c_str(), p.elapsed_seconds);
             const SessionProgress& a = driver.accumulation();
             if (a.accumulating) ImGui::TextUnformatted(refinement_summary(a).c_str());
         } else {
             const double done = p.tiles_total ? 100.0 * p.tiles_done / p.tiles_total : 0.0;
-            ImGui::Text("%s  %d x %d  %s %3.0f%%  %.2f s", name.c_str(), driver.job().width, driver.job().height,
-                        what.c_str(), done, p.elapsed_seconds);
+            ImGui::Text("%s  %d x %d%s  %s %3.0f%%  %.2f s", name.c_str(), driver.job().width, driver.job().height,
+                        magnification(scale).c_str(), what.c_str(), done, p.elapsed_seconds);
         }
         photon_progress_bar(p, 320.0f);
     } else {
@@ -199,9 +210,9 @@ void empty_hint(const ViewModel& model, glm::vec2 area) {
 
 }  // namespace
 
-void draw_image_overlays(ViewModel& model, PanelState& state, const ImageLayout&, glm::vec2 window) {
+void draw_image_overlays(ViewModel& model, PanelState& state, const ImageLayout& layout, glm::vec2 window) {
     const glm::vec2 area(state.image_area_width > 0.0f ? state.image_area_width : window.x - sidebar_width, window.y);
-    status_line(model);
+    status_line(model, layout.scale);
     error_banner(model, area);
     empty_hint(model, area);
     message(model, state, area);

@@ -42,10 +42,12 @@ void draw_stats_section(const ViewModel& model, const PanelState& state) {
     for (std::size_t l = 0; l < stats.caustic_lights.size(); ++l) {
         const LightCausticStats& c = stats.caustic_lights[l];
         if (c.candidates == 0) continue;
-        ImGui::Text("light %zu: %lld photons shot, %lld stored", l + 1, c.traced, c.stored);
+        // The photons knob counts directions; only those the projection map keeps are traced, and
+        // only photons that reach a diffuse surface after a specular one are stored.
+        ImGui::Text("light %zu: %s of %s traced, %s stored", l + 1, short_count(double(c.traced)).c_str(),
+                    short_count(double(c.candidates)).c_str(), short_count(double(c.stored)).c_str());
         if (c.projection_map_used)
-            ImGui::TextDisabled("  projection map: %.1f%% of the sphere, of %lld", 100.0 * c.occupied_fraction,
-                                c.candidates);
+            ImGui::TextDisabled("  (%.1f%% of directions in the projection map)", 100.0 * c.occupied_fraction);
     }
     if (stats.caustic_photons > 0) {
         ImGui::Text("photon map: %zu photons, %.1f MiB", stats.caustic_photons, stats.caustic_map_bytes / 1048576.0);
