@@ -329,13 +329,7 @@ int run_render_command(const std::vector<std::string>& args) {
     std::vector<RenderJob> jobs = script.renders;
     std::vector<std::string> paths;
     for (std::size_t i = 0; i < jobs.size(); ++i) {
-        apply_option_tokens(jobs[i].options, parsed.option_tokens);
-        for (const std::string& token : parsed.option_tokens)  // set on the command line: not the script's
-            if (token.rfind("--", 0) == 0)
-                std::erase_if(jobs[i].option_origins, [&](const auto& origin) {
-                    return token.compare(2, origin.first.size(), origin.first) == 0 &&
-                           (token.size() == origin.first.size() + 2 || token[origin.first.size() + 2] == '=');
-                });
+        jobs[i].apply_command_line(parsed.option_tokens);
         paths.push_back(output_path(parsed, jobs[i], i, jobs.size()));
         check_writable(paths.back(), jobs[i], !parsed.output.empty());
     }

@@ -599,13 +599,7 @@ RenderJob ViewModel::compose(const JobInputs& inputs) const {
     // As `caustica render SCENE [tokens]` does (app/render_command.cpp): the command line's options
     // over the script's gr.option, then what the person picked, as the options Copy command line adds.
     RenderJob job = inputs.scene->renders[inputs.render_index];
-    apply_option_tokens(job.options, inputs.tokens);
-    for (const std::string& token : inputs.tokens)  // set on the command line: not the script's
-        if (token.rfind("--", 0) == 0)
-            std::erase_if(job.option_origins, [&](const auto& origin) {
-                return token.compare(2, origin.first.size(), origin.first) == 0 &&
-                       (token.size() == origin.first.size() + 2 || token[origin.first.size() + 2] == '=');
-            });
+    job.apply_command_line(inputs.tokens);  // exactly as app/render_command.cpp
     if (!inputs.preset.empty()) apply_option_tokens(job.options, {"--quality", inputs.preset});
     inputs.overrides.merge(CausticKnobs::from(job.options), inputs.person_knobs).apply(job.options);
     // The classic integrator has no passes to limit.

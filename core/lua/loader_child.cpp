@@ -120,7 +120,9 @@ std::string run(const std::string& request) {
     SharedProgress* progress = page == MAP_FAILED ? nullptr : static_cast<SharedProgress*>(page);
     try {
         try {
-            return "O" + encode_scene_script(run_script(path, settings, progress));
+            std::string reply = "O";  // not "O" + string: GCC 12 warns (-Wrestrict) on that inlined insert
+            reply += encode_scene_script(run_script(path, settings, progress));
+            return reply;
         } catch (const ScriptCancelled&) {
             return "C";
         } catch (const InputError& e) {

@@ -133,6 +133,19 @@ struct RenderJob {
             if (it->first == name) return &it->second;
         return nullptr;
     }
+
+    /// Applies options given on the command line over the script's gr.option calls (the command
+    /// line wins); an option it sets no longer has a script origin. `caustica render` and the
+    /// preview compose their jobs through this one function, so the preview shows what render makes.
+    void apply_command_line(const std::vector<std::string>& tokens) {
+        apply_option_tokens(options, tokens);
+        for (const std::string& token : tokens)
+            if (token.rfind("--", 0) == 0)
+                std::erase_if(option_origins, [&](const auto& origin) {
+                    return token.compare(2, origin.first.size(), origin.first) == 0 &&
+                           (token.size() == origin.first.size() + 2 || token[origin.first.size() + 2] == '=');
+                });
+    }
 };
 
 /// The result of running a scene script.
