@@ -128,8 +128,9 @@ void ViewApp::handle_keys() {
     if (pressed(keys::p)) knobs.photons_only = !knobs.photons_only;
     if (pressed(keys::d)) knobs.photon_dots = !knobs.photon_dots;
     model_.set_knobs(knobs);
-    if (pressed(keys::e))
-        model_.display().exposure = std::clamp(model_.display().exposure + (io.KeyShift ? -1.0f : 1.0f), -6.0f, 6.0f);
+    // The direction by the modifiers held at the press (a quick Shift+E tap is still "down").
+    const float stops = float(key_pressed_with(keys::e, 0)) - float(key_pressed_with(keys::e, key_mods::shift));
+    if (stops != 0.0f) model_.display().exposure = std::clamp(model_.display().exposure + stops, -6.0f, 6.0f);
     if (pressed(keys::g)) model_.display().srgb = !model_.display().srgb;
     if (pressed(keys::left, true)) model_.orbit(arrow_degrees, 0.0);
     if (pressed(keys::right, true)) model_.orbit(-arrow_degrees, 0.0);

@@ -435,7 +435,8 @@ void ViewModel::reset_difference(const std::string& id) {
     if (id == "all") {
         // One undo step for the whole reset, and none when there is nothing to undo. Mid-drag the
         // drag's own step is closed first: record_undo() would otherwise add nothing.
-        if (!(choices() == Choices{})) {
+        const std::vector<Difference> all = differences();
+        if (std::any_of(all.begin(), all.end(), [](const Difference& d) { return d.id != "camera"; })) {
             group_open_ = false;
             record_undo();
         }
@@ -500,6 +501,7 @@ std::vector<std::string> ViewModel::person_tokens() const {
 std::string ViewModel::command_line() const {
     if (!scene_) return {};
     std::string text = "caustica render " + shell_quote(scene_path_);
+    for (const std::string& folder : config_.allow_read) text += " --allow-read " + shell_quote(folder);  // the scene may need them
     for (const std::string& t : inputs_.tokens) text += " " + shell_quote(t);
     for (const std::string& t : person_tokens()) text += " " + shell_quote(t);
     return text;
@@ -649,6 +651,8 @@ void ViewModel::update() {
             inputs_ = *committed_inputs_;
             scene_ = inputs_.scene;
             scene_path_ = inputs_.scene_path;
+            tokens_of(scene_path_) = inputs_.tokens;  // an --a4 that failed is untaken everywhere
+            update_a4_hint();
             mark_dirty();
         }
         running_inputs_.reset();
@@ -743,7 +747,7 @@ SaveResult ViewModel::save(const std::string& path, bool overwrite) {
     const SessionProgress& progress = driver_.accumulation().accumulating ? driver_.accumulation() : driver_.progress();
     const std::string absolute = absolute_path(path);
     std::optional<SaveToneSettings> tone;  // none: the job's --tonemap and --exposure, as `render` writes
-    if (display_.exposure_to_png)
+    if (display_.exposure_to_png && image_format_of(path) == ImageFormat::png)  // EXR and PFM stay linear
         tone = SaveToneSettings{driver_.job().options.tonemap,
                                 static_cast<float>(driver_.job().options.exposure + display_.exposure)};
     SaveResult result = save_preview_image(absolute, driver_.image(), driver_.job(), scene_path_, progress, overwrite, tone);

@@ -6,6 +6,7 @@
 #include "ui/view_model.h"
 #include "ui_test_support.h"
 
+#include "core/io/image_io.h"
 #include "core/io/png_io.h"
 #include "core/lua/scene_loader.h"
 #include "core/photons/photon_tracer.h"
@@ -685,6 +686,48 @@ TEST(Wysiwyg, StatisticsBelongToTheSceneShown) {
     }
     EXPECT_EQ(model.photons_note(), "requested 5000 photons, none shot: no light shoots photons (only lights with "
                                      "quadratic falloff do)");
+}
+
+TEST(Wysiwyg, CopiedCommandKeepsAllowReadAndTheDisplayExposureNeverScalesAnExr) {
+    TempFolder folder;
+    const std::string scene = folder.write("box.lua", tiny_box(3000));
+    ModelConfig config = config_with({"--reproducible"});
+    fs::create_directories(folder.file("textures"));
+    config.allow_read = {folder.file("textures")};
+    ViewModel model(config);
+    model.open(scene);
+    ASSERT_TRUE(loaded(model, scene)) << model.error();
+    // The batch command must be allowed to read what the preview read.
+    EXPECT_EQ(model.command_line(),
+              "caustica render " + scene + " --allow-read " + folder.file("textures") + " --reproducible");
+
+    ASSERT_TRUE(run_until_finished(model, 30.0));
+    model.display().exposure = 3.0f;
+    model.display().exposure_to_png = true;  // "PNG: apply the display exposure"
+    ASSERT_EQ(model.save(folder.file("a.pfm"), false).outcome, SaveOutcome::written);
+    ASSERT_EQ(model.save(folder.file("a.png"), false).outcome, SaveOutcome::written);
+    const Image linear = read_image_file(folder.file("a.pfm"));
+    const Image& shown = model.driver().image();
+    ASSERT_EQ(linear.width, shown.width);
+    double max_diff = 0.0, brightest = 0.0;
+    for (int y = 0; y < shown.height; ++y)
+        for (int x = 0; x < shown.width; ++x) {
+            max_diff = std::max(max_diff, double(glm::length(linear.at(x, y) - shown.at(x, y))));
+            brightest = std::max(brightest, double(shown.at(x, y).g));
+        }
+    EXPECT_EQ(max_diff, 0.0);  // the PFM holds the render's values, not 8x them
+    ASSERT_GT(brightest, 0.05);
+    // The PNG does get the 3 stops: a pixel at 1/8 or more is white.
+    const Png8 png = read_png(folder.file("a.png"));
+    int white = 0, bright = 0;
+    for (int y = 0; y < shown.height; ++y)
+        for (int x = 0; x < shown.width; ++x)
+            if (shown.at(x, y).g >= 0.13f) {
+                ++bright;
+                white += png.data[(std::size_t(y) * png.width + x) * png.channels + 1] == 255;
+            }
+    ASSERT_GT(bright, 0);
+    EXPECT_EQ(white, bright);
 }
 
 }  // namespace
