@@ -1,5 +1,6 @@
 // The option table: parsing, validation, suggestions, precedence.
 #include "core/scene/options.h"
+#include "core/scene/scene_desc.h"
 #include "core/scene/source_location.h"
 
 #include <gtest/gtest.h>
@@ -180,4 +181,22 @@ TEST(Options, EditDistance) {
     EXPECT_EQ(edit_distance("kitten", "sitting"), 3);
     EXPECT_EQ(edit_distance("", "abc"), 3);
     EXPECT_EQ(edit_distance("same", "same"), 0);
+}
+
+TEST(Options, CommandLineTakesTheScriptOriginOfWhatItSetsInAnyForm) {
+    // Errors about an option's value name the gr.option line only while the script set it.
+    RenderJob job;
+    const SourceLocation where{"scene.lua", 3};
+    job.option_origins = {{"threads", where}, {"silent", where}, {"stats", where}, {"timing", where},
+                          {"caustic-num-photons", where}};
+    job.apply_command_line({"-j2", "-St", "--caustic-num-photons=5"});
+    EXPECT_EQ(job.options.threads, 2);
+    EXPECT_TRUE(job.options.stats);
+    EXPECT_TRUE(job.options.timing);
+    EXPECT_EQ(job.option_origin("threads"), nullptr);
+    EXPECT_EQ(job.option_origin("stats"), nullptr);
+    EXPECT_EQ(job.option_origin("timing"), nullptr);
+    EXPECT_EQ(job.option_origin("caustic-num-photons"), nullptr);
+    ASSERT_NE(job.option_origin("silent"), nullptr);  // not on the command line: still the script's
+    EXPECT_EQ(job.option_origin("silent")->line, 3);
 }

@@ -576,7 +576,9 @@ TEST(PngEncoding, LinearTruncatesSrgbRounds) {
     using caustica::PixelEncoding;
     for (int k = 0; k <= 255; ++k) {
         EXPECT_EQ(caustica::encode_channel(k / 255.0f, PixelEncoding::clamped_linear), k) << k;
-        if (k < 255) EXPECT_EQ(caustica::encode_channel((k + 0.99f) / 255.0f, PixelEncoding::clamped_linear), k) << k;
+        if (k < 255) {
+            EXPECT_EQ(caustica::encode_channel((k + 0.99f) / 255.0f, PixelEncoding::clamped_linear), k) << k;
+        }
     }
     EXPECT_EQ(caustica::encode_channel(0.5f / 255.0f, PixelEncoding::clamped_linear), 0);     // lround: 1
     EXPECT_EQ(caustica::encode_channel(254.99f / 255.0f, PixelEncoding::clamped_linear), 254);  // lround: 255

@@ -35,6 +35,10 @@ int run_headless(const ViewArguments& args) {
         wait_for_next_frame(model, frame_start);  // 60 frames a second at most: the renderer needs the cores
     }
     if (!args.snapshot.empty()) {
+        if (!window.last_frame_drawn()) {  // a run that gave up may end on a skipped frame: draw the last state
+            window.skip_undrawable_frames(&model, false);
+            window.frame(app);
+        }
         write_snapshot(args.snapshot, window.pixels(), window.width(), window.height(), "osmesa");
         std::printf("wrote %s (%d x %d)\n", args.snapshot.c_str(), window.width(), window.height());
     }

@@ -324,7 +324,7 @@ int edit_distance(std::string_view a, std::string_view b) {
 }
 
 void apply_option_tokens(Options& options, const std::vector<std::string>& tokens,
-                         std::vector<std::string>* positional) {
+                         std::vector<std::string>* positional, std::vector<std::string>* names_set) {
     for (size_t i = 0; i < tokens.size(); ++i) {
         const std::string& token = tokens[i];
         const OptionSpec* spec = nullptr;
@@ -356,7 +356,10 @@ void apply_option_tokens(Options& options, const std::vector<std::string>& token
                                          "' is not a short flag (a short option taking a value goes alone or "
                                          "first, as in -j2)");
                 }
-                for (std::size_t k = 1; k + 1 < token.size(); ++k) find_short(token[k])->set(options, "");
+                for (std::size_t k = 1; k + 1 < token.size(); ++k) {
+                    find_short(token[k])->set(options, "");
+                    if (names_set) names_set->push_back(find_short(token[k])->long_name);
+                }
                 spec = find_short(token.back());
             }
         } else if (token.size() > 2 && token[0] == '-' && token[1] != '-') {
@@ -377,6 +380,7 @@ void apply_option_tokens(Options& options, const std::vector<std::string>& token
             throw InputError("--" + spec->long_name + ": takes no value");
         }
         spec->set(options, value);
+        if (names_set) names_set->push_back(spec->long_name);
     }
 }
 

@@ -92,8 +92,10 @@ struct Options {
 /// Applies command-line style tokens ("--aa-grid", "4", "-S", "--threads=2") to `options`.
 /// Throws InputError naming the option on unknown options (suggesting the closest), missing or
 /// bad values. Non-option tokens are an error unless `positional` is given, which collects them.
+/// `names_set`, when given, receives the long name of every option the tokens set ("-St": both).
 void apply_option_tokens(Options& options, const std::vector<std::string>& tokens,
-                         std::vector<std::string>* positional = nullptr);
+                         std::vector<std::string>* positional = nullptr,
+                         std::vector<std::string>* names_set = nullptr);
 
 /// Splits a gr.option string into tokens on white space (quotes group words).
 std::vector<std::string> split_option_string(std::string_view text);

@@ -138,13 +138,10 @@ struct RenderJob {
     /// line wins); an option it sets no longer has a script origin. `caustica render` and the
     /// preview compose their jobs through this one function, so the preview shows what render makes.
     void apply_command_line(const std::vector<std::string>& tokens) {
-        apply_option_tokens(options, tokens);
-        for (const std::string& token : tokens)
-            if (token.rfind("--", 0) == 0)
-                std::erase_if(option_origins, [&](const auto& origin) {
-                    return token.compare(2, origin.first.size(), origin.first) == 0 &&
-                           (token.size() == origin.first.size() + 2 || token[origin.first.size() + 2] == '=');
-                });
+        std::vector<std::string> names;  // long names, whatever form the tokens took ("-j2", "-St")
+        apply_option_tokens(options, tokens, nullptr, &names);
+        for (const std::string& name : names)
+            std::erase_if(option_origins, [&](const auto& origin) { return origin.first == name; });
     }
 };
 
