@@ -836,10 +836,14 @@ std::optional<SurfaceInspection> RenderSession::inspect(const Ray& ray, const Op
     const glm::vec3 n = glm::dot(hit.normal, ray.direction) > 0.0f ? -hit.normal : hit.normal;
     const int k = std::max(options.caustic_num_neighbours, 1);  // validated: at most a million
     const float max_distance = static_cast<float>(options.effective_caustic_max_dist());
-    std::lock_guard lock(mutex_);  // caustics_ is replaced under it
-    if (!caustics_ || !caustics_->map || caustics_->map->size() == 0) return out;
+    std::shared_ptr<const CausticStage> stage;
+    {
+        std::lock_guard lock(mutex_);  // caustics_ is replaced under it; the query runs outside
+        stage = caustics_;
+    }
+    if (!stage || !stage->map || stage->map->size() == 0) return out;
     std::vector<Neighbour> scratch(static_cast<std::size_t>(k));
-    const PhotonMap& map = *caustics_->map;
+    const PhotonMap& map = *stage->map;
     out.map_photons = map.size();
     if (options.integrator == IntegratorKind::progressive) {
         const PhotonFilter filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;

@@ -189,7 +189,7 @@ private:
     std::uint64_t geometry_key_ = 0;        // fingerprint of what the BVH depends on
     std::uint64_t built_geometry_key_ = 0;
     std::uint64_t caustic_key_ = 0;         // fingerprint of what the photon map depends on, 0 = none
-    std::unique_ptr<CausticStage> caustics_;
+    std::shared_ptr<CausticStage> caustics_;  // replaced whole under mutex_, never changed after: inspect() keeps one
     std::shared_ptr<const RenderScene> scene_;  // replaced under mutex_ (pick reads it)
     std::shared_ptr<const RenderJob> inspect_job_;  // the job scene_ was built from, replaced with it under mutex_
     struct InspectIndex;  // nodes and materials of scene_'s primitives, for inspect()
