@@ -1,5 +1,6 @@
 #include "core/io/exr_io.h"
 
+#include "core/io/regular_file.h"
 #include "core/scene/source_location.h"
 
 #include <ImfChannelList.h>
@@ -58,40 +59,9 @@ void limit_openexr_sizes() {
     });
 }
 
-/// An open file descriptor, closed on scope exit.
-struct Descriptor {
-    int fd = -1;
-    Descriptor() = default;
-    Descriptor(const Descriptor&) = delete;
-    Descriptor& operator=(const Descriptor&) = delete;
-    ~Descriptor() {
-        if (fd >= 0) ::close(fd);
-    }
-};
-
-/// Opens a regular file for reading (a FIFO is refused without waiting for a writer) and returns
-/// its size; throws InputError("PATH: reason").
-std::uint64_t open_regular(const std::string& path, Descriptor& d) {
-    d.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-    if (d.fd < 0) throw InputError(path + ": " + std::strerror(errno));
-    struct stat st {};
-    if (::fstat(d.fd, &st) != 0) throw InputError(path + ": " + std::strerror(errno));
-    if (!S_ISREG(st.st_mode)) throw InputError(path + ": not a regular file");
-    ::fcntl(d.fd, F_SETFL, ::fcntl(d.fd, F_GETFL) & ~O_NONBLOCK);
-    return static_cast<std::uint64_t>(st.st_size);
-}
-
-/// Reads up to `count` bytes at `offset`; returns how many were read (fewer at the end of file).
-std::size_t read_at(int fd, void* out, std::size_t count, std::uint64_t offset) {
-    std::size_t got = 0;
-    while (got < count) {
-        const ssize_t n = ::pread(fd, static_cast<char*>(out) + got, count - got, static_cast<off_t>(offset + got));
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        got += static_cast<std::size_t>(n);
-    }
-    return got;
-}
+using io::Descriptor;
+using io::open_regular;
+using io::read_at;
 
 /// OpenEXR's input on the descriptor our header walk checked (the same file, not the path again),
 /// and the header bytes from the very copy the walk checked: a file rewritten in place meanwhile
@@ -345,13 +315,10 @@ std::vector<unsigned char> check_exr_headers(const std::string& path, int fd, st
     return bytes.take();
 }
 
-}  // namespace
-
-bool has_exr_magic(std::span<const unsigned char> bytes) {
-    return bytes.size() >= 4 && bytes[0] == 0x76 && bytes[1] == 0x2f && bytes[2] == 0x31 && bytes[3] == 0x01;
-}
-
-Image read_exr_image(const std::string& path, const ImageReadLimits& limits) {
+/// Opens `path` as a checked OpenEXR file (check_exr_headers, then OpenEXR on the same descriptor
+/// and the checked header bytes) and returns `read(file)`; every failure reads "PATH: reason".
+template <class Read>
+auto read_checked_exr(const std::string& path, const ImageReadLimits& limits, Read read) {
     Descriptor d;
     const std::uint64_t file_size = open_regular(path, d);
     const std::vector<unsigned char> checked = check_exr_headers(path, d.fd, file_size, limits);
@@ -359,6 +326,24 @@ Image read_exr_image(const std::string& path, const ImageReadLimits& limits) {
     try {
         DescriptorIStream stream(d.fd, file_size, checked, path);
         Imf::InputFile file(stream);
+        return read(file);
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw InputError(path + ": not enough memory to read this OpenEXR file");
+    } catch (const std::exception& e) {
+        throw InputError(path + ": not a readable OpenEXR file: " + e.what());
+    }
+}
+
+}  // namespace
+
+bool has_exr_magic(std::span<const unsigned char> bytes) {
+    return bytes.size() >= 4 && bytes[0] == 0x76 && bytes[1] == 0x2f && bytes[2] == 0x31 && bytes[3] == 0x01;
+}
+
+Image read_exr_image(const std::string& path, const ImageReadLimits& limits) {
+    return read_checked_exr(path, limits, [&](Imf::InputFile& file) {
         const Imath::Box2i window = file.header().dataWindow();
         const std::int64_t width = std::int64_t(window.max.x) - window.min.x + 1;
         const std::int64_t height = std::int64_t(window.max.y) - window.min.y + 1;
@@ -389,35 +374,17 @@ Image read_exr_image(const std::string& path, const ImageReadLimits& limits) {
         if (luminance)
             for (glm::vec3& p : image.pixels) p.y = p.z = p.x;
         return image;
-    } catch (const InputError&) {
-        throw;
-    } catch (const std::bad_alloc&) {
-        throw InputError(path + ": not enough memory to read this OpenEXR file");
-    } catch (const std::exception& e) {
-        throw InputError(path + ": not a readable OpenEXR file: " + e.what());
-    }
+    });
 }
 
 ImageMetadata read_exr_metadata(const std::string& path) {
-    Descriptor d;
-    const std::uint64_t file_size = open_regular(path, d);
-    const std::vector<unsigned char> checked = check_exr_headers(path, d.fd, file_size, ImageReadLimits{});
-    limit_openexr_sizes();
-    try {
-        DescriptorIStream stream(d.fd, file_size, checked, path);
-        Imf::InputFile file(stream);
+    return read_checked_exr(path, ImageReadLimits{}, [](Imf::InputFile& file) {
         ImageMetadata metadata;
         for (auto it = file.header().begin(); it != file.header().end(); ++it)
             if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
                 metadata.emplace_back(it.name(), text->value());
         return metadata;
-    } catch (const InputError&) {
-        throw;
-    } catch (const std::bad_alloc&) {
-        throw InputError(path + ": not enough memory to read this OpenEXR file");
-    } catch (const std::exception& e) {
-        throw InputError(path + ": not a readable OpenEXR file: " + e.what());
-    }
+    });
 }
 
 void write_exr_atomic(const std::string& path, const Image& image, ExrPixel pixel, const ImageMetadata& metadata,

@@ -1,6 +1,7 @@
 #include "core/io/image_io.h"
 
 #include "core/io/exr_io.h"
+#include "core/io/regular_file.h"
 #include "core/scene/source_location.h"
 
 #include <algorithm>
@@ -17,37 +18,9 @@
 namespace caustica {
 namespace {
 
-/// An open file descriptor, closed on scope exit.
-struct Descriptor {
-    int fd = -1;
-    ~Descriptor() {
-        if (fd >= 0) ::close(fd);
-    }
-};
-
-/// Opens a regular file for reading (a FIFO is refused without waiting for a writer) and returns
-/// its size; throws InputError("PATH: reason").
-std::uint64_t open_regular(const std::string& path, Descriptor& d) {
-    d.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-    if (d.fd < 0) throw InputError(path + ": " + std::strerror(errno));
-    struct stat st {};
-    if (::fstat(d.fd, &st) != 0) throw InputError(path + ": " + std::strerror(errno));
-    if (!S_ISREG(st.st_mode)) throw InputError(path + ": not a regular file");
-    ::fcntl(d.fd, F_SETFL, ::fcntl(d.fd, F_GETFL) & ~O_NONBLOCK);
-    return static_cast<std::uint64_t>(st.st_size);
-}
-
-/// Reads up to `count` bytes at `offset`; returns how many were read (fewer at the end of file).
-std::size_t read_at(int fd, void* out, std::size_t count, std::uint64_t offset) {
-    std::size_t got = 0;
-    while (got < count) {
-        const ssize_t n = ::pread(fd, static_cast<char*>(out) + got, count - got, static_cast<off_t>(offset + got));
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        got += static_cast<std::size_t>(n);
-    }
-    return got;
-}
+using io::Descriptor;
+using io::open_regular;
+using io::read_at;
 
 // ---------------------------------------------------------------------------------------------
 // PFM: "PF" (RGB) or "Pf" (gray), white space, width, white space, height, white space, scale

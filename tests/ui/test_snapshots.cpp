@@ -2,9 +2,8 @@
 // where they belong, the image region equals a batch render of the same view, the overlay shows
 // where the outline is, mouse and keys drive the camera, and the command line picks the right
 // executable.
-#include "ui/headless_window.h"
+#include "headless_preview.h"
 #include "ui/keys.h"
-#include "ui_test_support.h"
 
 #include "core/io/png_io.h"
 
@@ -26,56 +25,10 @@ namespace {
 
 using namespace caustica::ui::testing;
 
-constexpr int window_width = 1280, window_height = 720;
-
-struct Rgb {
-    int r, g, b;
+/// The fixture with the preview test scene by default.
+struct Preview : HeadlessPreview {
+    explicit Preview(const std::string& scene_text = caustic_box_text()) : HeadlessPreview(scene_text) {}
 };
-
-/// The window, the model and the app, with the test scene loaded and rendered to the end.
-class Preview {
-public:
-    explicit Preview(const std::string& scene_text = caustic_box_text()) {
-        ModelConfig config;
-        config.option_tokens = {"--reproducible", "--threads", "2"};
-        model = std::make_unique<ViewModel>(config);
-        app = std::make_unique<ViewApp>(*model);
-        scene = folder.write("scene.lua", scene_text);
-        model->open(scene);
-    }
-
-    /// Runs frames (about 1 ms apart) until `done` and then three more; false on timeout.
-    bool run_until(const std::function<bool()>& done, double seconds = 60.0) {
-        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        while (!done()) {
-            if (std::chrono::steady_clock::now() > end) return false;
-            window.frame(*app);
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
-        for (int i = 0; i < 3; ++i) window.frame(*app);
-        return true;
-    }
-    /// Runs until everything asked for is rendered and the overlay is traced.
-    bool settle() {
-        return run_until([&] { return !model->changes_pending() && model->driver().finished() && model->overlay_settled(); });
-    }
-    /// One frame with input.
-    void frame(const HeadlessInput& input) { window.frame(*app, input); }
-
-    /// The window's pixels.
-    std::vector<unsigned char> snapshot() const { return window.pixels(); }
-
-    TempFolder folder;
-    std::string scene;
-    HeadlessWindow window{window_width, window_height};  // before the model and app: destroyed last
-    std::unique_ptr<ViewModel> model;
-    std::unique_ptr<ViewApp> app;
-};
-
-Rgb pixel(const std::vector<unsigned char>& rgba, int x, int y) {
-    const unsigned char* p = &rgba[(static_cast<std::size_t>(y) * window_width + x) * 4];
-    return {p[0], p[1], p[2]};
-}
 
 bool near(Rgb a, Rgb b, int tolerance) {
     return std::abs(a.r - b.r) <= tolerance && std::abs(a.g - b.g) <= tolerance && std::abs(a.b - b.b) <= tolerance;

@@ -2,9 +2,8 @@
 // the current image and the reference where they should, and the hidden sidebar, the image zoom
 // with sharp pixels and the hover readout with the surface under the cursor. With
 // CAUSTICA_DOC_IMAGES=folder set they also write the README's screenshots (inspect_*.png) there.
-#include "ui/headless_window.h"
+#include "headless_preview.h"
 #include "ui/keys.h"
-#include "ui_test_support.h"
 
 #include "core/io/png_io.h"
 
@@ -20,64 +19,18 @@ namespace {
 
 using namespace caustica::ui::testing;
 
-constexpr int window_width = 1280, window_height = 720;
 constexpr int key_a = 65, key_b = 66;
 
-struct Rgb {
-    int r, g, b;
-    bool operator==(const Rgb&) const = default;
-};
-
-/// The window, the model and the app with the test scene, as in test_snapshots.cpp.
-struct Preview {
-    Preview() {
-        ModelConfig config;
-        config.option_tokens = {"--reproducible", "--threads", "2"};
-        model = std::make_unique<ViewModel>(config);
-        app = std::make_unique<ViewApp>(*model);
-        // Few photons for speed; the README's screenshots show the scene's own 2 million.
-        const bool docs = std::getenv("CAUSTICA_DOC_IMAGES") != nullptr;
-        model->open(folder.write("scene.lua", caustic_box_text(docs ? 2000000 : 200000)));
-    }
-    bool run_until(const std::function<bool()>& done, double seconds = 60.0) {
-        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        while (!done()) {
-            if (std::chrono::steady_clock::now() > end) return false;
-            window.frame(*app);
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
-        for (int i = 0; i < 3; ++i) window.frame(*app);
-        return true;
-    }
-    bool settle() { return run_until([&] { return !model->changes_pending() && model->driver().finished(); }); }
+/// The fixture with the test scene: few photons for speed; the README's screenshots show the
+/// scene's own 2 million.
+struct Preview : HeadlessPreview {
+    Preview() : HeadlessPreview(caustic_box_text(std::getenv("CAUSTICA_DOC_IMAGES") ? 2000000 : 200000)) {}
+    /// One more frame, then the window's pixels.
     std::vector<unsigned char> shot() {
         window.frame(*app);
         return window.pixels();
     }
-
-    TempFolder folder;
-    HeadlessWindow window{window_width, window_height};
-    std::unique_ptr<ViewModel> model;
-    std::unique_ptr<ViewApp> app;
 };
-
-Rgb pixel(const std::vector<unsigned char>& rgba, int x, int y) {
-    const unsigned char* p = &rgba[(static_cast<std::size_t>(y) * window_width + x) * 4];
-    return {p[0], p[1], p[2]};
-}
-
-/// Writes a snapshot to $CAUSTICA_DOC_IMAGES/name when that is set (README screenshots).
-void write_doc_image(const std::vector<unsigned char>& rgba, const std::string& name) {
-    const char* folder = std::getenv("CAUSTICA_DOC_IMAGES");
-    if (!folder || !*folder) return;
-    Image image(window_width, window_height);
-    for (int y = 0; y < window_height; ++y)
-        for (int x = 0; x < window_width; ++x) {
-            const Rgb p = pixel(rgba, x, y);
-            image.at(x, y) = (glm::vec3(p.r, p.g, p.b) + 0.5f) / 255.0f;  // truncated back to p
-        }
-    write_png_atomic(std::string(folder) + "/" + name, image, PixelEncoding::clamped_linear);
-}
 
 TEST(SnapshotInspect, ComparisonModesShowCurrentAndReference) {
     Preview p;

@@ -2,9 +2,8 @@
 // copies renders, in batch, the very image the preview shows after the person's changes; and the
 // save questions answer to Enter and Esc (an Enter that answers one question never answers the
 // next one too).
-#include "ui/headless_window.h"
+#include "headless_preview.h"
 #include "ui/keys.h"
-#include "ui_test_support.h"
 
 #include "core/io/png_io.h"
 
@@ -21,50 +20,7 @@ namespace {
 
 using namespace caustica::ui::testing;
 
-constexpr int window_width = 1280, window_height = 720;
-
-/// The window, the model and the app with `scene_text`, as in test_snapshots.cpp.
-struct Preview {
-    explicit Preview(const std::string& scene_text) {
-        ModelConfig config;
-        config.option_tokens = {"--reproducible", "--threads", "2"};
-        model = std::make_unique<ViewModel>(config);
-        app = std::make_unique<ViewApp>(*model);
-        scene = folder.write("scene.lua", scene_text);
-        model->open(scene);
-    }
-    bool run_until(const std::function<bool()>& done, double seconds = 60.0) {
-        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        while (!done()) {
-            if (std::chrono::steady_clock::now() > end) return false;
-            window.frame(*app);
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
-        for (int i = 0; i < 3; ++i) window.frame(*app);
-        return true;
-    }
-    bool settle() { return run_until([&] { return !model->changes_pending() && model->driver().finished(); }); }
-
-    TempFolder folder;
-    std::string scene;
-    HeadlessWindow window{window_width, window_height};  // before the model and app: destroyed last
-    std::unique_ptr<ViewModel> model;
-    std::unique_ptr<ViewApp> app;
-};
-
-/// Writes the window to $CAUSTICA_DOC_IMAGES/name when that is set (docs' screenshots).
-void write_doc_image(const HeadlessWindow& window, const std::string& name) {
-    const char* folder = std::getenv("CAUSTICA_DOC_IMAGES");
-    if (!folder || !*folder) return;
-    const std::vector<unsigned char> rgba = window.pixels();
-    Image image(window_width, window_height);
-    for (int y = 0; y < window_height; ++y)
-        for (int x = 0; x < window_width; ++x) {
-            const unsigned char* p = &rgba[(static_cast<std::size_t>(y) * window_width + x) * 4];
-            image.at(x, y) = (glm::vec3(p[0], p[1], p[2]) + 0.5f) / 255.0f;  // truncated back to p
-        }
-    write_png_atomic(std::string(folder) + "/" + name, image, PixelEncoding::clamped_linear, {});
-}
+using Preview = HeadlessPreview;
 
 std::map<std::string, std::string> png_text(const std::string& path) {
     std::map<std::string, std::string> text;
@@ -86,7 +42,7 @@ TEST(SnapshotWysiwyg, CopiedCommandLineRendersTheImageShown) {
     const std::string command_line = preview.model->command_line();
     EXPECT_TRUE(preview.model->command_line_notes().empty());
     const std::vector<unsigned char> shot = preview.window.pixels();
-    write_doc_image(preview.window, "wysiwyg_differences.png");
+    write_doc_image(preview.window.pixels(), "wysiwyg_differences.png");
 
     const std::string reference = preview.folder.file("batch.png");
     const std::string command = std::string(CAUSTICA_BINARY) + command_line.substr(std::string("caustica").size()) +
@@ -133,7 +89,7 @@ TEST(SnapshotWysiwyg, SaveQuestionsAnswerToEnterAndEsc) {
     };
     frame({keys::s}, true);  // Ctrl+S mid-render: "save now (N passes)" or (not here) "when done"
     EXPECT_FALSE(fs::exists(saved));
-    write_doc_image(preview.window, "wysiwyg_save_question.png");
+    write_doc_image(preview.window.pixels(), "wysiwyg_save_question.png");
     frame({keys::enter});    // Enter: save now
     ASSERT_TRUE(fs::exists(saved));
     const std::string first = png_text(saved)["caustica:passes"];
