@@ -1,10 +1,16 @@
 // caustica: the command-line entry point. Subcommands as in yocto's apps: render, view.
 #include "app/render_command.h"
 #include "app/view_command.h"
+#include "core/render/cluster.h"
 #include "core/scene/source_location.h"
+#ifdef CAUSTICA_HAVE_MPI
+#include "app/mpi_cluster.h"
+#endif
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
@@ -24,6 +30,31 @@ const char* usage =
     "\n"
     "'caustica render --help' lists the options.\n";
 
+/// `caustica render`, under mpirun with the other ranks (issue 13).
+int render_command(const std::vector<std::string>& args) {
+#ifdef CAUSTICA_HAVE_MPI
+    if (caustica::launched_by_mpirun()) {
+        std::unique_ptr<caustica::Cluster> cluster = caustica::start_mpi_cluster();
+        try {
+            return caustica::run_render_command(args, cluster.get());
+        } catch (const std::exception& e) {
+            // Every failure the ranks can agree on was reported; this one left the other ranks
+            // waiting: end them all, with the message.
+            std::fprintf(stderr, "caustica: rank %d of %d: %s\n", cluster->rank(), cluster->size(), e.what());
+            caustica::abort_mpi(caustica::exit_failure);
+        }
+    }
+#else
+    if (std::getenv("OMPI_COMM_WORLD_SIZE") && std::getenv("OMPI_COMM_WORLD_RANK") &&
+        std::string(std::getenv("OMPI_COMM_WORLD_SIZE")) != "1") {
+        if (std::string(std::getenv("OMPI_COMM_WORLD_RANK")) != "0") return caustica::exit_ok;  // rank 0 renders alone
+        std::fprintf(stderr, "warning: this caustica was built without MPI: rank 0 renders alone (install "
+                             "libopenmpi-dev and rebuild to share the work)\n");
+    }
+#endif
+    return caustica::run_render_command(args);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -42,10 +73,12 @@ int main(int argc, char** argv) {
             std::printf("caustica %s\n", CAUSTICA_VERSION);
             return caustica::exit_ok;
         }
-        if (command == "render") return caustica::run_render_command({args.begin() + 1, args.end()});
+        const bool render = command == "render";
+        if (render || (command.size() > 4 && command.compare(command.size() - 4, 4, ".lua") == 0)) {
+            const std::vector<std::string> render_args = render ? std::vector<std::string>(args.begin() + 1, args.end()) : args;
+            return render_command(render_args);
+        }
         if (command == "view") return caustica::run_view_command({args.begin() + 1, args.end()});
-        if (command.size() > 4 && command.compare(command.size() - 4, 4, ".lua") == 0)
-            return caustica::run_render_command(args);
         std::fprintf(stderr, "caustica: unknown command '%s'\n\n%s", command.c_str(), usage);
         return caustica::exit_usage;
     } catch (const std::bad_alloc&) {

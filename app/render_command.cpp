@@ -1,19 +1,26 @@
 #include "app/render_command.h"
 
+#include "app/animation.h"
 #include "app/progress_bar.h"
 #include "core/lua/scene_loader.h"
 #include "core/io/image_io.h"
 #include "core/io/png_io.h"
 #include "core/render/render_session.h"
+#include "core/scene/camera.h"
 #include "core/scene/source_location.h"
+#include "core/render/cluster.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <new>
+#include <optional>
+#include <random>
+#include <set>
 #include <stdexcept>
 #include <thread>
 #include <unistd.h>
@@ -37,6 +44,7 @@ struct RenderArguments {
     std::string scene;
     std::string output;                       ///< -o, or "" for the names the script gives
     std::vector<std::string> allow_read;      ///< --allow-read folders (command line only)
+    AnimationRequest animation;               ///< --frames, --orbit-frames (command line only)
     bool help = false;
 };
 
@@ -62,6 +70,7 @@ RenderArguments parse_arguments(const std::vector<std::string>& args) {
         }
     }
     if (parsed.help) return parsed;
+    parsed.animation = take_animation_arguments(tokens);
     std::vector<std::string> positional;
     Options check;
     apply_option_tokens(check, tokens, &positional);  // validates every option before any work
@@ -75,18 +84,11 @@ RenderArguments parse_arguments(const std::vector<std::string>& args) {
     return parsed;
 }
 
-/// The file a render job writes: -o (numbered when the script renders several), else the script's.
-std::string output_path(const RenderArguments& args, const RenderJob& job, std::size_t index, std::size_t count) {
-    if (args.output.empty()) return job.output;
-    if (count == 1) return args.output;
-    std::filesystem::path p(args.output);
-    return (p.parent_path() / (p.stem().string() + "-" + std::to_string(index + 1) + p.extension().string())).string();
-}
-
 /// Refuses, before any rendering, an output that cannot be written. A bad name is the scene's
 /// error (exit 2); a missing or unwritable folder is the environment's, exit 1 like a write that
-/// fails after rendering (README, exit codes). Also removes stale temporaries of killed runs.
-void check_writable(const std::string& path, const RenderJob& job, bool from_command_line) {
+/// fails after rendering (README, exit codes). Also removes stale temporaries of killed runs, once
+/// per folder (`cleaned` holds the folders done: an animation writes many frames to one folder).
+void check_writable(const std::string& path, const RenderJob& job, bool from_command_line, std::set<std::string>& cleaned) {
     std::filesystem::path p(path);
     if (!image_format_of(path))
         throw InputError(job.where, "gr.render: output '" + path + "' must end in .png, .exr or .pfm");
@@ -100,7 +102,7 @@ void check_writable(const std::string& path, const RenderJob& job, bool from_com
     if (::access(dir.c_str(), W_OK) != 0)
         throw std::runtime_error(prefix + "folder '" + dir.string() + "' is not writable");
     if (const std::string problem = output_file_problem(path); !problem.empty()) throw std::runtime_error(prefix + problem);
-    remove_stale_png_temporaries(dir.string());
+    if (cleaned.insert(dir.string()).second) remove_stale_png_temporaries(dir.string());
 }
 
 /// "W x H" as a job will render it.
@@ -190,7 +192,8 @@ std::string format_vector(const glm::dvec3& v) {
 
 /// The PNG text chunks / EXR string attributes of a rendered image: what made it (the keys of
 /// docs/OUTPUT.md; the preview's save writes the same ones, ui/save_image.cpp).
-ImageMetadata render_metadata(const RenderJob& job, const std::string& scene_path, const RenderStats& stats) {
+ImageMetadata render_metadata(const RenderJob& job, const std::string& scene_path, const RenderStats& stats,
+                              const std::string& frame) {
     const Options& o = job.options;
     const CameraDesc& c = job.camera;
     char seconds[32], fovy[32];
@@ -205,6 +208,7 @@ ImageMetadata render_metadata(const RenderJob& job, const std::string& scene_pat
                                                   format_vector(c.up) + " fovy " + fovy},
                           {"caustica:size", std::to_string(r ? r : job.width) + "x" + std::to_string(r ? r : job.height)},
                           {"caustica:render-seconds", seconds}};
+    if (!frame.empty()) text.push_back({"caustica:frame", frame});
     if (const RenderStats::Accumulation& a = stats.accumulation; a.passes > 0) {
         text.push_back({"caustica:passes", std::to_string(a.passes)});
         text.push_back({"caustica:photons", std::to_string(a.photons_emitted)});
@@ -217,8 +221,9 @@ ImageMetadata render_metadata(const RenderJob& job, const std::string& scene_pat
     return text;
 }
 
-/// Renders one job to completion (or interruption) and writes its image. Returns an exit code.
-int render_job(RenderSession& session, const RenderJob& job, const std::string& scene_path, const std::string& path) {
+/// Renders one job to completion (or interruption), showing its progress when `show`. Returns
+/// exit_ok or exit_interrupted; rethrows the session's errors.
+int render_frame(RenderSession& session, const RenderJob& job, const std::string& path, bool show) {
     const Options& o = job.options;
     session.set_job(job);
     if (o.verbose && !o.silent)
@@ -226,7 +231,7 @@ int render_job(RenderSession& session, const RenderJob& job, const std::string& 
                      o.resolution_override ? o.resolution_override : job.width,
                      o.resolution_override ? o.resolution_override : job.height);
     session.start();
-    ProgressBar bar(!o.silent);
+    ProgressBar bar(show && !o.silent);
     for (;;) {
         const SessionProgress p = session.progress();
         if (!p.running) break;
@@ -252,23 +257,267 @@ int render_job(RenderSession& session, const RenderJob& job, const std::string& 
     }
     bar.finish();
     const bool complete = session.wait();  // rethrows scene errors found while preparing
-    if (!o.silent)
+    if (show && !o.silent)
         for (const std::string& w : session.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (!complete || interrupted) {
-        if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
-        return exit_interrupted;
-    }
-    const RenderStats stats = session.stats();
+    return complete && !interrupted ? exit_ok : exit_interrupted;
+}
+
+/// Writes a rendered frame and reports it. Returns an exit code (write errors throw).
+int write_frame(const RenderJob& job, const std::string& scene_path, const std::string& path, const std::string& frame,
+                const Image& image, const RenderStats& stats) {
+    const Options& o = job.options;
     try {
-        write_image_atomic(path, session.image(), write_settings(o), render_metadata(job, scene_path, stats), &interrupted);
+        write_image_atomic(path, image, write_settings(o), render_metadata(job, scene_path, stats, frame), &interrupted);
     } catch (const ImageWriteCancelled&) {
         if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
         return exit_interrupted;
     }
     print_stats(stats, o.timing, o.stats);
-    if (!o.silent)
-        std::printf("wrote %s (%d x %d, %.2f s)\n", path.c_str(), session.image().width, session.image().height,
-                    stats.total_seconds);
+    if (!o.silent) std::printf("wrote %s (%d x %d, %.2f s)\n", path.c_str(), image.width, image.height, stats.total_seconds);
+    return exit_ok;
+}
+
+/// Renders one job and writes its image (`write`: this process writes; under mpirun rank 0).
+int render_job(RenderSession& session, const RenderJob& job, const std::string& scene_path, const std::string& path,
+               const std::string& frame, bool write = true) {
+    if (render_frame(session, job, path, write) != exit_ok) {
+        if (write && !job.options.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
+        return exit_interrupted;
+    }
+    if (!write) return exit_ok;
+    return write_frame(job, scene_path, path, frame, session.image(), session.stats());
+}
+
+/// The distance from the eye of `job` to the first surface its central view ray hits (0 when it
+/// hits nothing): the target --orbit-frames turns around, found as the preview finds its orbit's
+/// target. Builds the scene, which the frames then reuse (the session caches it by its geometry's
+/// fingerprint). Rethrows scene errors.
+double view_axis_target(RenderSession& session, const RenderJob& job) {
+    session.set_job(job);
+    session.prepare_geometry();
+    const int r = job.options.resolution_override;
+    const int width = r ? r : job.width, height = r ? r : job.height;
+    const Camera camera(job.camera, width, height);
+    glm::vec3 point;
+    if (!session.pick(camera.generate(0.5f * width, 0.5f * height), point)) return 0.0;
+    return glm::length(glm::dvec3(point) - job.camera.eye);
+}
+
+InputError out_of_memory(const RenderJob& job, const std::string& path) {
+    // The scene asks for more than the machine can hold: a scene error (exit 2, README).
+    return InputError(job.where, "gr.render: not enough memory to render '" + path + "' (" + job_size(job) +
+                                     " pixels); lower the resolution or the photon count");
+}
+
+/// What a render command renders, once its arguments, script and frames are checked.
+struct RenderPlan {
+    RenderArguments parsed;
+    AnimationPlan plan;
+    bool numbered = false;  ///< frames are numbered in the images' metadata
+};
+
+/// Everything before rendering: arguments, the script, the frames, the outputs (checked where
+/// they are written: `writes`), the orbit's target. Returns an exit code to end with at once
+/// (help, interrupted), or -1 to render.
+int plan_render(const std::vector<std::string>& args, RenderSession& session, bool writes, RenderPlan& out) {
+    RenderArguments& parsed = out.parsed;
+    parsed = parse_arguments(args);
+    if (parsed.help) {
+        if (writes) std::printf("%s", render_help().c_str());
+        return exit_ok;
+    }
+    Options command_line;
+    apply_option_tokens(command_line, parsed.option_tokens);
+    if (!std::filesystem::is_regular_file(parsed.scene))
+        throw InputError(parsed.scene + ": no such scene file");
+
+    LoadSettings settings;
+    settings.timeout_seconds = command_line.script_timeout;
+    settings.memory_limit_bytes = static_cast<std::size_t>(command_line.script_memory_mib) << 20;
+    settings.allow_read = parsed.allow_read;
+    settings.output_given = !parsed.output.empty();
+    settings.cancel = &interrupted;
+    SceneScript script;
+    try {
+        script = load_scene_script(parsed.scene, settings);
+    } catch (const ScriptCancelled&) {
+        if (writes) std::fprintf(stderr, "caustica: interrupted while running %s\n", parsed.scene.c_str());
+        return exit_interrupted;
+    } catch (const std::bad_alloc&) {
+        throw InputError(parsed.scene + ": not enough memory to run the script");
+    }
+    if (writes && !command_line.silent)
+        for (const std::string& w : script.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (script.renders.empty()) throw InputError(parsed.scene + ": the script calls no gr.render; nothing to render");
+
+    // The command line wins over gr.option: re-apply its tokens on top of each job's options.
+    std::vector<RenderJob> jobs = script.renders;
+    for (RenderJob& job : jobs) {
+        job.apply_command_line(parsed.option_tokens);
+        if (!writes) job.options.silent = true;  // under mpirun rank 0 speaks for every rank
+    }
+    // The frames: every gr.render, or --frames of them, or --orbit-frames views of the first.
+    out.plan = plan_animation(parsed.animation, jobs, parsed.output);
+    if (writes) {
+        std::set<std::string> cleaned;
+        for (const AnimationFrame& frame : out.plan.frames) {
+            if (interrupted) {  // 100000 frames take seconds to check
+                std::fprintf(stderr, "caustica: interrupted; no frame written\n");
+                return exit_interrupted;
+            }
+            check_writable(frame.path, frame.job, !parsed.output.empty(), cleaned);
+        }
+    }
+    for (const AnimationFrame& frame : out.plan.frames) {
+        const Options& o = frame.job.options;
+        if (o.integrator == IntegratorKind::progressive && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
+            throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
+    }
+    if (writes && !jobs[0].options.silent)
+        for (const std::string& w : out.plan.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    // Frames are numbered in the images' metadata when there is more than one to number.
+    out.numbered = parsed.animation.any() || jobs.size() > 1;
+    if (out.plan.needs_target) {
+        double distance = 0.0;
+        try {
+            distance = view_axis_target(session, jobs[0]);
+        } catch (const std::bad_alloc&) {
+            throw out_of_memory(jobs[0], out.plan.frames.front().path);
+        }
+        if (interrupted) {
+            if (writes && !jobs[0].options.silent) std::fprintf(stderr, "caustica: interrupted; no frame written\n");
+            return exit_interrupted;
+        }
+        aim_orbit(out.plan, distance);
+    }
+    return -1;
+}
+
+/// Rank 0 tells the user what stopped every rank (an interruption once: `said` when it was);
+/// every rank exits with its code.
+int report(const RankFailure& failure, const Cluster& cluster, bool said = false) {
+    if (cluster.rank() == 0) {
+        if (failure.exit_code == exit_interrupted) {
+            if (!said) std::fprintf(stderr, "caustica: interrupted; nothing more written\n");
+        } else if (failure.rank == 0) {
+            std::fprintf(stderr, "caustica: %s\n", failure.message.c_str());
+        } else {
+            std::fprintf(stderr, "caustica: rank %d of %d: %s\n", failure.rank, cluster.size(), failure.message.c_str());
+        }
+    }
+    return failure.exit_code;
+}
+
+/// A rendered frame as bytes for rank 0, and back: the image and what its metadata reports.
+Cluster::Bytes frame_bytes(const Image& image, const RenderStats& stats) {
+    Cluster::Bytes bytes;
+    auto put = [&](const void* p, std::size_t n) {
+        bytes.insert(bytes.end(), static_cast<const std::uint8_t*>(p), static_cast<const std::uint8_t*>(p) + n);
+    };
+    const std::int32_t size[2] = {image.width, image.height};
+    put(size, sizeof size);
+    const double numbers[5] = {stats.total_seconds, static_cast<double>(stats.accumulation.passes),
+                               static_cast<double>(stats.accumulation.photons_emitted), stats.accumulation.error,
+                               static_cast<double>(stats.threads)};
+    put(numbers, sizeof numbers);
+    put(image.pixels.data(), image.pixels.size() * sizeof(glm::vec3));
+    return bytes;
+}
+
+void frame_of(const Cluster::Bytes& bytes, Image& image, RenderStats& stats) {
+    std::int32_t size[2];
+    double numbers[5];
+    if (bytes.size() < sizeof size + sizeof numbers) throw std::runtime_error("a frame from another rank is truncated");
+    std::memcpy(size, bytes.data(), sizeof size);
+    std::memcpy(numbers, bytes.data() + sizeof size, sizeof numbers);
+    const std::size_t pixels = static_cast<std::size_t>(std::max(0, size[0])) * static_cast<std::size_t>(std::max(0, size[1]));
+    if (bytes.size() != sizeof size + sizeof numbers + pixels * sizeof(glm::vec3))
+        throw std::runtime_error("a frame from another rank has the wrong size");
+    image = Image(size[0], size[1]);
+    std::memcpy(image.pixels.data(), bytes.data() + sizeof size + sizeof numbers, pixels * sizeof(glm::vec3));
+    stats = RenderStats{};
+    stats.total_seconds = numbers[0];
+    stats.accumulation.passes = static_cast<int>(numbers[1]);
+    stats.accumulation.photons_emitted = static_cast<long long>(numbers[2]);
+    stats.accumulation.error = numbers[3];
+    stats.threads = static_cast<int>(numbers[4]);
+}
+
+/// This rank's failure from a caught exception, with out-of-memory named as a scene error.
+std::optional<RankFailure> failure_here(std::exception_ptr error, const Cluster& cluster, const AnimationFrame* frame) {
+    if (!error) return std::nullopt;
+    try {
+        std::rethrow_exception(error);
+    } catch (const std::bad_alloc&) {
+        if (frame) return failure_of(std::make_exception_ptr(out_of_memory(frame->job, frame->path)), cluster.rank());
+    } catch (...) {
+    }
+    return failure_of(error, cluster.rank());
+}
+
+/// Under mpirun: the frames rendered by every rank together (a frame at a time: fewer frames than
+/// ranks), or whole frames shared out in rounds of one per rank. Rank 0 writes every file.
+int render_with_ranks(Cluster& cluster, RenderSession& session, const RenderPlan& plan) {
+    const std::vector<AnimationFrame>& frames = plan.plan.frames;
+    const bool root = cluster.rank() == 0;
+    const int ranks = cluster.size();
+    auto label = [&](const AnimationFrame& f) { return plan.numbered ? frame_label(f) : std::string(); };
+    if (static_cast<int>(frames.size()) <= ranks) {
+        session.set_cluster(&cluster);
+        for (const AnimationFrame& frame : frames) {
+            std::exception_ptr error;
+            int code = exit_ok;
+            try {
+                code = render_job(session, frame.job, plan.parsed.scene, frame.path, label(frame), root);
+            } catch (...) {
+                error = std::current_exception();
+            }
+            std::optional<RankFailure> mine = failure_here(error, cluster, &frame);
+            if (!mine && code != exit_ok) mine = RankFailure{cluster.rank(), code, "interrupted"};
+            // An interruption was said by render_job, which rank 0 runs to the end too.
+            if (const std::optional<RankFailure> failure = cluster.agree(mine)) return report(*failure, cluster, true);
+        }
+        return exit_ok;
+    }
+    // More frames than ranks: each renders whole frames alone, rank k frames k, k + K, ...
+    session.set_cluster(nullptr);
+    const std::size_t count = frames.size();
+    for (std::size_t round = 0; round * static_cast<std::size_t>(ranks) < count; ++round) {
+        const std::size_t mine_index = round * static_cast<std::size_t>(ranks) + static_cast<std::size_t>(cluster.rank());
+        Cluster::Bytes result;
+        std::exception_ptr error;
+        int code = exit_ok;
+        if (mine_index < count) {
+            const AnimationFrame& frame = frames[mine_index];
+            try {
+                code = render_frame(session, frame.job, frame.path, root);
+                if (code == exit_ok) result = frame_bytes(session.image(), session.stats());
+            } catch (...) {
+                error = std::current_exception();
+            }
+        }
+        std::optional<RankFailure> mine = failure_here(error, cluster, mine_index < count ? &frames[mine_index] : nullptr);
+        if (!mine && code != exit_ok) mine = RankFailure{cluster.rank(), code, "interrupted"};
+        if (const std::optional<RankFailure> failure = cluster.agree(mine)) return report(*failure, cluster);
+        const std::vector<Cluster::Bytes> results = cluster.gather(result);
+        mine.reset();
+        code = exit_ok;
+        if (root) {
+            try {
+                for (std::size_t r = 0; r < results.size() && round * ranks + r < count && code == exit_ok; ++r) {
+                    const AnimationFrame& frame = frames[round * static_cast<std::size_t>(ranks) + r];
+                    Image image;
+                    RenderStats stats;
+                    frame_of(results[r], image, stats);
+                    code = write_frame(frame.job, plan.parsed.scene, frame.path, label(frame), image, stats);
+                }
+            } catch (...) {
+                mine = failure_here(std::current_exception(), cluster, nullptr);
+            }
+            if (!mine && code != exit_ok) mine = RankFailure{0, code, "interrupted"};
+        }
+        if (const std::optional<RankFailure> failure = cluster.agree(mine)) return report(*failure, cluster);
+    }
     return exit_ok;
 }
 
@@ -280,6 +529,12 @@ std::string render_help() {
            "Runs the scene script and renders every gr.render it calls. Without -o each render\n"
            "writes the file the script names, relative to the current folder; with -o a single\n"
            "render writes OUT.png and several write OUT-1.png, OUT-2.png, ...\n"
+           "Animations (docs/ANIMATION.md; command line only):\n"
+           "  --frames A:B       render frames A to B only (numbered from 1; --frames N: frame N);\n"
+           "                     without --orbit-frames the frames are the script's gr.render calls\n"
+           "  --orbit-frames N   N frames of the first gr.render, its camera turned 360 degrees about\n"
+           "                     its up vector around the first surface on its view axis; written as\n"
+           "                     OUT-0001.png ... (or the script's name with -0001 before the extension)\n"
            "The extension picks the format: .png (8-bit; --srgb, --tonemap), .exr (OpenEXR, linear\n"
            "and unclamped, half or --exr-pixel float, parameters in the header) or .pfm (linear float).\n"
            "--exposure scales every format. docs/OUTPUT.md has the details.\n"
@@ -293,64 +548,58 @@ std::string render_help() {
            options_help();
 }
 
-int run_render_command(const std::vector<std::string>& args) {
-    RenderArguments parsed = parse_arguments(args);
-    if (parsed.help) {
-        std::printf("%s", render_help().c_str());
-        return exit_ok;
-    }
-    Options command_line;
-    apply_option_tokens(command_line, parsed.option_tokens);
-    if (!std::filesystem::is_regular_file(parsed.scene))
-        throw InputError(parsed.scene + ": no such scene file");
-
+int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
+    if (cluster && cluster->size() <= 1) cluster = nullptr;
+    const bool root = !cluster || cluster->rank() == 0;
     std::signal(SIGINT, on_interrupt);
     std::signal(SIGTERM, on_interrupt);
-    LoadSettings settings;
-    settings.timeout_seconds = command_line.script_timeout;
-    settings.memory_limit_bytes = static_cast<std::size_t>(command_line.script_memory_mib) << 20;
-    settings.allow_read = parsed.allow_read;
-    settings.output_given = !parsed.output.empty();
-    settings.cancel = &interrupted;
-    SceneScript script;
-    try {
-        script = load_scene_script(parsed.scene, settings);
-    } catch (const ScriptCancelled&) {
-        std::fprintf(stderr, "caustica: interrupted while running %s\n", parsed.scene.c_str());
-        return exit_interrupted;
-    } catch (const std::bad_alloc&) {
-        throw InputError(parsed.scene + ": not enough memory to run the script");
-    }
-    if (!command_line.silent)
-        for (const std::string& w : script.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (script.renders.empty()) throw InputError(parsed.scene + ": the script calls no gr.render; nothing to render");
-
-    // The command line wins over gr.option: re-apply its tokens on top of each job's options.
-    std::vector<RenderJob> jobs = script.renders;
-    std::vector<std::string> paths;
-    for (std::size_t i = 0; i < jobs.size(); ++i) {
-        jobs[i].apply_command_line(parsed.option_tokens);
-        paths.push_back(output_path(parsed, jobs[i], i, jobs.size()));
-        check_writable(paths.back(), jobs[i], !parsed.output.empty());
-    }
-    for (const RenderJob& job : jobs) {
-        const Options& o = job.options;
-        if (o.integrator == IntegratorKind::progressive && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
-            throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
-    }
     RenderSession session;
-    for (std::size_t i = 0; i < jobs.size(); ++i) {
-        int code = exit_ok;
-        try {
-            code = render_job(session, jobs[i], parsed.scene, paths[i]);
-        } catch (const std::bad_alloc&) {
-            // The scene asks for more than the machine can hold: a scene error (exit 2, README).
-            throw InputError(jobs[i].where, "gr.render: not enough memory to render '" + paths[i] + "' (" +
-                                                job_size(jobs[i]) + " pixels); lower the resolution or the photon count");
+    RenderPlan plan;
+    if (!cluster) {
+        const int early = plan_render(args, session, true, plan);
+        if (early >= 0) return early;
+        for (const AnimationFrame& frame : plan.plan.frames) {
+            int code = exit_ok;
+            try {
+                code = render_job(session, frame.job, plan.parsed.scene, frame.path,
+                                  plan.numbered ? frame_label(frame) : "");
+            } catch (const std::bad_alloc&) {
+                throw out_of_memory(frame.job, frame.path);
+            }
+            if (code != exit_ok) return code;
         }
-        if (code != exit_ok) return code;
+        return exit_ok;
     }
-    return exit_ok;
+    // Under mpirun every rank plans the same frames from the same script; a rank that cannot
+    // stops them all, with its message.
+    int early = -1;
+    std::exception_ptr error;
+    try {
+        early = plan_render(args, session, root, plan);
+    } catch (...) {
+        error = std::current_exception();
+    }
+    std::optional<RankFailure> mine = failure_here(error, *cluster, nullptr);
+    if (!mine && early == exit_interrupted) mine = RankFailure{cluster->rank(), exit_interrupted, "interrupted"};
+    if (const std::optional<RankFailure> failure = cluster->agree(mine)) return report(*failure, *cluster);
+    if (early >= 0) return early;
+    // The ranks share their random streams: without --reproducible rank 0 draws the seed (the
+    // images' options then record it: the render can be repeated).
+    Cluster::Bytes seed(sizeof(std::uint64_t));
+    if (root) {
+        const std::uint64_t drawn = (static_cast<std::uint64_t>(std::random_device{}()) << 32) ^ std::random_device{}();
+        std::memcpy(seed.data(), &drawn, sizeof drawn);
+    }
+    cluster->broadcast(seed, 0);
+    std::uint64_t shared_seed = 0;
+    std::memcpy(&shared_seed, seed.data(), sizeof shared_seed);
+    for (AnimationFrame& frame : plan.plan.frames) {
+        Options& o = frame.job.options;
+        if (o.reproducible) continue;
+        o.reproducible = true;
+        o.seed = static_cast<long long>(shared_seed & 0x7fffffffffffULL);
+    }
+    return render_with_ranks(*cluster, session, plan);
 }
 
 }  // namespace caustica

@@ -13,12 +13,12 @@
 //          [--drag (a continuous drag, both pacings, --frames frames)]
 #include "ui/frame_pacing.h"
 #include "ui/headless_window.h"
-#include "ui/orbit_camera.h"
 #include "ui/preview_driver.h"
 #include "ui/shader_sources.h"
 #include "ui/view_main.h"
 
 #include "core/lua/scene_loader.h"
+#include "core/scene/orbit_camera.h"
 
 #include <algorithm>
 #include <chrono>

@@ -3,6 +3,8 @@
 #include "core/io/png_io.h"
 #include "core/util/sanitized.h"
 
+#include "run_command.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -41,15 +43,9 @@ protected:
     void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
 
     Result run(const std::string& args) {
-        const std::string command = "cd '" + dir_.string() + "' && '" CAUSTICA_BINARY "' " + args + " 2>&1";
-        Result r;
-        FILE* pipe = ::popen(command.c_str(), "r");
-        char buffer[4096];
-        std::size_t n;
-        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-        const int status = ::pclose(pipe);
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return r;
+        const caustica::testing::CommandResult r =
+            caustica::testing::run_shell("cd '" + dir_.string() + "' && '" CAUSTICA_BINARY "' " + args);
+        return {r.code, r.output};
     }
 
     bool exists(const std::string& name) const { return fs::exists(dir_ / name); }

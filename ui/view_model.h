@@ -11,8 +11,8 @@
 // written back as the options of command_line().
 #pragma once
 
+#include "core/scene/orbit_camera.h"
 #include "ui/caustic_knobs.h"
-#include "ui/orbit_camera.h"
 #include "ui/overlay_geometry.h"
 #include "ui/preview_driver.h"
 #include "ui/save_image.h"

@@ -1,10 +1,13 @@
 #include "core/photons/caustic_stage.h"
 
+#include "core/render/cluster.h"
 #include "core/render/random.h"
 #include "core/scene/source_location.h"
 #include "core/shading/texture.h"
 
 #include <chrono>
+#include <cstring>
+#include <stdexcept>
 #include <random>
 
 namespace caustica {
@@ -42,7 +45,7 @@ std::uint64_t stage_seed(const Options& o) {
 void build_progressive_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                              const std::atomic<bool>* cancel, const PhotonPassExtras& extras);
 void build_classic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel, const TextureSet* textures);
+                         const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster);
 
 }  // namespace
 
@@ -79,9 +82,9 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
 }
 
 void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel, const TextureSet* textures) {
+                         const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster) {
     if (job.options.integrator == IntegratorKind::classic)
-        build_classic_stage(stage, scene, job, cancel, textures);
+        build_classic_stage(stage, scene, job, cancel, textures, cluster && cluster->size() > 1 ? cluster : nullptr);
     else
         build_progressive_stage(stage, scene, job, cancel, PhotonPassExtras{});
 }
@@ -143,8 +146,113 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     stage.tree_seconds = seconds_since(t0);
 }
 
+/// A rank's share of the classic photons as bytes, and back (the ranks run the same binary).
+class ShareWriter {
+public:
+    template <typename T>
+    void put(const T& value) { put_bytes(&value, sizeof value); }
+    template <typename T>
+    void put_vector(const std::vector<T>& v) {
+        put<std::uint64_t>(v.size());
+        put_bytes(v.data(), v.size() * sizeof(T));
+    }
+    Cluster::Bytes bytes;
+
+private:
+    void put_bytes(const void* p, std::size_t n) {
+        const auto* b = static_cast<const std::uint8_t*>(p);
+        bytes.insert(bytes.end(), b, b + n);
+    }
+};
+
+class ShareReader {
+public:
+    explicit ShareReader(const Cluster::Bytes& bytes) : bytes_(bytes) {}
+    template <typename T>
+    T get() {
+        T value;
+        get_bytes(&value, sizeof value);
+        return value;
+    }
+    template <typename T>
+    std::vector<T> get_vector() {
+        const std::uint64_t n = get<std::uint64_t>();
+        if (n > (bytes_.size() - at_) / sizeof(T)) throw std::runtime_error("photon share: truncated message");
+        std::vector<T> v(static_cast<std::size_t>(n));
+        get_bytes(v.data(), v.size() * sizeof(T));
+        return v;
+    }
+
+private:
+    void get_bytes(void* p, std::size_t n) {
+        if (n > bytes_.size() - at_) throw std::runtime_error("photon share: truncated message");
+        std::memcpy(p, bytes_.data() + at_, n);
+        at_ += n;
+    }
+    const Cluster::Bytes& bytes_;
+    std::size_t at_ = 0;
+};
+
+Cluster::Bytes share_bytes(const ClassicPhotonResult& r) {
+    ShareWriter w;
+    w.put_vector(r.caustic);
+    w.put_vector(r.gi);
+    w.put_vector(r.caustic_blocks);
+    w.put_vector(r.gi_blocks);
+    for (const std::vector<LightPhotonReport>* reports : {&r.caustic_lights, &r.gi_lights})
+        for (const LightPhotonReport& l : *reports) {
+            w.put(l.candidates);
+            w.put(l.traced);
+            w.put(l.stored);
+        }
+    return std::move(w.bytes);
+}
+
+ClassicPhotonResult share_of(const Cluster::Bytes& bytes, std::size_t lights) {
+    ShareReader reader(bytes);
+    ClassicPhotonResult r;
+    r.caustic = reader.get_vector<Photon>();
+    r.gi = reader.get_vector<Photon>();
+    r.caustic_blocks = reader.get_vector<std::uint32_t>();
+    r.gi_blocks = reader.get_vector<std::uint32_t>();
+    r.caustic_lights.resize(lights);
+    r.gi_lights.resize(lights);
+    for (std::vector<LightPhotonReport>* reports : {&r.caustic_lights, &r.gi_lights})
+        for (LightPhotonReport& l : *reports) {
+            l.candidates = reader.get<long long>();
+            l.traced = reader.get<long long>();
+            l.stored = reader.get<long long>();
+        }
+    return r;
+}
+
+/// Every rank's share of the photons, merged on every rank in one process's order.
+ClassicPhotonResult gather_classic_photons(Cluster& cluster, ClassicPhotonResult mine, std::size_t lights) {
+    std::vector<Cluster::Bytes> all = cluster.all_gather(share_bytes(mine));
+    std::vector<ClassicPhotonResult> shares;
+    shares.reserve(all.size());
+    for (std::size_t r = 0; r < all.size(); ++r) {
+        shares.push_back(share_of(all[r], lights));
+        Cluster::Bytes().swap(all[r]);  // one copy of the photons at a time
+    }
+    ClassicPhotonResult merged = merge_classic_photons(std::move(shares));
+    // The projection maps, timings and warnings are this rank's own (the same maps on every rank).
+    merged.maps = std::move(mine.maps);
+    for (std::size_t l = 0; l < lights; ++l) {
+        for (auto [into, from] : {std::pair{&merged.caustic_lights[l], &mine.caustic_lights[l]},
+                                  std::pair{&merged.gi_lights[l], &mine.gi_lights[l]}}) {
+            into->projection_map_used = from->projection_map_used;
+            into->occupied_fraction = from->occupied_fraction;
+            into->map_seconds = from->map_seconds;
+            into->shoot_seconds = from->shoot_seconds;
+            into->warning = from->warning;
+        }
+    }
+    return merged;
+}
+
 void build_classic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel, const TextureSet* textures) {
+                         const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster) {
     const Options& o = job.options;
     stage = CausticStage{};
     stage.key = caustic_fingerprint(job, 0);
@@ -169,7 +277,25 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
     settings.projection_map_granularity = o.caustic_pm_gran;
     settings.build_projection_maps = caustic_map_wanted(job) && o.draw_caustic_prm;
     settings.seed = stage_seed(o);
-    ClassicPhotonResult pass = shoot_classic_photons(scene, textures, lights, settings, cancel);
+    ClassicPhotonResult pass;
+    if (!cluster) {
+        pass = shoot_classic_photons(scene, textures, lights, settings, cancel);
+    } else {
+        // Each rank shoots its share; a failure or an interruption on any rank stops every rank
+        // here, before the gather that would wait for it.
+        settings.share_rank = cluster->rank();
+        settings.share_size = cluster->size();
+        std::exception_ptr error;
+        try {
+            pass = shoot_classic_photons(scene, textures, lights, settings, cancel);
+        } catch (...) {
+            error = std::current_exception();
+        }
+        if (!error && cancel && cancel->load())
+            cluster->checkpoint(RankFailure{cluster->rank(), cluster_interrupted_code, "interrupted"});
+        cluster->checkpoint(error);
+        pass = gather_classic_photons(*cluster, std::move(pass), lights.size());
+    }
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const LightPhotonReport& c = pass.caustic_lights[l];
         const LightPhotonReport& g = pass.gi_lights[l];

@@ -19,6 +19,8 @@
 
 namespace caustica {
 
+class Cluster;
+
 /// The lights a job renders with, as the renderer uses them.
 std::vector<Light> job_lights(const RenderJob& job);
 
@@ -48,8 +50,12 @@ struct CausticStage {
 /// InputError for scene errors found on the way (progressive: kd + ks > 1 on a specular material,
 /// naming the material's line; the classic odds are cumulative and accept it). `textures` gives
 /// the classic photons kd(uv); when null and a material has a texture, the stage loads its own.
+/// With a `cluster` of several ranks (classic only; every rank calls it), each rank shoots its share
+/// of the emission blocks and the shares are gathered: every rank then holds the maps one process
+/// builds, bit for bit. A failure on any rank throws ClusterError on every rank.
 void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel, const TextureSet* textures = nullptr);
+                         const std::atomic<bool>* cancel, const TextureSet* textures = nullptr,
+                         Cluster* cluster = nullptr);
 
 /// What a progressive photon pass adds to the job.
 struct PhotonPassExtras {

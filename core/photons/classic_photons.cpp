@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 namespace caustica {
 namespace {
@@ -216,14 +217,15 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 /// Shoots the photons of one map for one light into `out`; fills the report's counts.
 void shoot_light(const RenderScene& scene, const TextureSet* textures, const Light& light, std::size_t l,
                  ClassicMapKind kind, long long requested, const glm::vec3& energy, const ProjectionMap* map,
-                 std::uint64_t seed, const std::atomic<bool>* cancel, std::vector<Photon>& out,
-                 LightPhotonReport& report) {
+                 std::uint64_t seed, const std::atomic<bool>* cancel, int share_rank, int share_size,
+                 std::vector<Photon>& out, std::uint32_t* block_counts, LightPhotonReport& report) {
     std::vector<std::vector<Photon>> stored(emission_blocks);
     std::vector<long long> offered(emission_blocks, 0), traced(emission_blocks, 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, emission_blocks, 1), [&](const tbb::blocked_range<int>& range) {
         const ScopedFlushDenormals flush;
         for (int block = range.begin(); block != range.end(); ++block) {
             if (cancel && cancel->load(std::memory_order_relaxed)) return;
+            if (block % share_size != share_rank) continue;  // another rank's
             auto visit = [&](long long cell, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
                 const long long count = cell_photons(requested, cell_solid_angle(a, b, c), cell);
                 offered[block] += count;
@@ -251,6 +253,7 @@ void shoot_light(const RenderScene& scene, const TextureSet* textures, const Lig
         report.candidates += offered[block];
         report.traced += traced[block];
         report.stored += static_cast<long long>(stored[block].size());
+        block_counts[block] = static_cast<std::uint32_t>(stored[block].size());
         out.insert(out.end(), stored[block].begin(), stored[block].end());
     }
 }
@@ -373,6 +376,10 @@ ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const Textur
     result.maps.resize(lights.size());
     result.caustic_lights.resize(lights.size());
     result.gi_lights.resize(lights.size());
+    result.caustic_blocks.assign(lights.size() * emission_blocks, 0);
+    result.gi_blocks.assign(lights.size() * emission_blocks, 0);
+    const int share_size = std::max(1, settings.share_size);
+    const int share_rank = std::clamp(settings.share_rank, 0, share_size - 1);
     const long long caustic_offered = classic_photons_offered(settings.caustic_photons);
     const long long gi_offered = classic_photons_offered(settings.gi_photons);
     double expected_caustic = 0.0, expected_gi = 0.0;  // over all lights, checked before shooting
@@ -407,7 +414,8 @@ ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const Textur
             const auto t0 = std::chrono::steady_clock::now();
             const glm::vec3 energy = photon_energy(light, settings.unit_distance, settings.caustic_photons, settings.energy_fudge);
             shoot_light(scene, textures, light, l, ClassicMapKind::caustic, settings.caustic_photons, energy, map,
-                        settings.seed, cancel, result.caustic, caustic);
+                        settings.seed, cancel, share_rank, share_size, result.caustic,
+                        &result.caustic_blocks[l * emission_blocks], caustic);
             caustic.shoot_seconds = seconds_since(t0);
         }
         if (settings.gi_photons > 0) {  // no projection map: diffuse surfaces everywhere matter
@@ -417,11 +425,68 @@ ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const Textur
             const auto t0 = std::chrono::steady_clock::now();
             const glm::vec3 energy = photon_energy(light, settings.unit_distance, settings.gi_photons, settings.energy_fudge);
             shoot_light(scene, textures, light, l, ClassicMapKind::gi, settings.gi_photons, energy, nullptr,
-                        settings.seed, cancel, result.gi, gi);
+                        settings.seed, cancel, share_rank, share_size, result.gi, &result.gi_blocks[l * emission_blocks],
+                        gi);
             gi.shoot_seconds = seconds_since(t0);
         }
     }
     return result;
+}
+
+int classic_emission_blocks() { return emission_blocks; }
+
+namespace {
+
+/// One map's photons from the shares, block by block in one process's order.
+std::vector<Photon> merge_map(const std::vector<ClassicPhotonResult>& shares, std::vector<Photon> ClassicPhotonResult::*photons,
+                              std::vector<std::uint32_t> ClassicPhotonResult::*blocks) {
+    const std::size_t n = shares.size();
+    std::size_t total = 0;
+    for (const ClassicPhotonResult& s : shares) total += (s.*photons).size();
+    std::vector<Photon> merged;
+    merged.reserve(total);
+    std::vector<std::size_t> cursor(n, 0);
+    const std::size_t cells = (shares[0].*blocks).size();
+    for (std::size_t i = 0; i < cells; ++i) {
+        const std::size_t owner = (i % emission_blocks) % n;  // block index within its light
+        const ClassicPhotonResult& s = shares[owner];
+        const std::uint32_t count = (s.*blocks)[i];
+        if (cursor[owner] + count > (s.*photons).size())
+            throw std::runtime_error("merging photon shares: a share holds fewer photons than its block counts say");
+        merged.insert(merged.end(), (s.*photons).begin() + static_cast<std::ptrdiff_t>(cursor[owner]),
+                      (s.*photons).begin() + static_cast<std::ptrdiff_t>(cursor[owner] + count));
+        cursor[owner] += count;
+    }
+    return merged;
+}
+
+void add_reports(std::vector<LightPhotonReport>& into, const std::vector<LightPhotonReport>& from) {
+    for (std::size_t l = 0; l < into.size() && l < from.size(); ++l) {
+        into[l].candidates += from[l].candidates;
+        into[l].traced += from[l].traced;
+        into[l].stored += from[l].stored;
+    }
+}
+
+}  // namespace
+
+ClassicPhotonResult merge_classic_photons(std::vector<ClassicPhotonResult>&& shares) {
+    if (shares.empty()) return {};
+    if (shares.size() == 1) return std::move(shares[0]);
+    for (const ClassicPhotonResult& s : shares)
+        if (s.caustic_blocks.size() != shares[0].caustic_blocks.size() || s.gi_blocks.size() != shares[0].gi_blocks.size())
+            throw std::runtime_error("merging photon shares: the ranks shot for different light counts");
+    ClassicPhotonResult merged;
+    merged.caustic = merge_map(shares, &ClassicPhotonResult::caustic, &ClassicPhotonResult::caustic_blocks);
+    merged.gi = merge_map(shares, &ClassicPhotonResult::gi, &ClassicPhotonResult::gi_blocks);
+    merged.maps = std::move(shares[0].maps);
+    merged.caustic_lights = shares[0].caustic_lights;
+    merged.gi_lights = shares[0].gi_lights;
+    for (std::size_t r = 1; r < shares.size(); ++r) {
+        add_reports(merged.caustic_lights, shares[r].caustic_lights);
+        add_reports(merged.gi_lights, shares[r].gi_lights);
+    }
+    return merged;
 }
 
 }  // namespace caustica

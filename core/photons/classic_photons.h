@@ -52,6 +52,9 @@ struct ClassicPhotonSettings {
     bool build_projection_maps = false;  ///< build them even without caustic photons (--draw-caustic-prm)
     std::uint64_t seed = 0;
     double memory_budget_bytes = 0.0;  ///< as PhotonPassSettings
+    /// Several ranks (issue 13): this rank shoots the emission blocks b with b % share_size ==
+    /// share_rank; merge_classic_photons puts the ranks' photons back in one process's order.
+    int share_rank = 0, share_size = 1;
 };
 
 /// The photons of both maps, the caustic projection maps and what happened per light.
@@ -59,7 +62,18 @@ struct ClassicPhotonResult {
     std::vector<Photon> caustic, gi;
     std::vector<ProjectionMap> maps;  ///< one per light (empty when none was built)
     std::vector<LightPhotonReport> caustic_lights, gi_lights;  ///< candidates = photons the cells offer
+    /// Photons stored per emission block, light after light (classic_emission_blocks each), for
+    /// merging the shares of several ranks.
+    std::vector<std::uint32_t> caustic_blocks, gi_blocks;
 };
+
+/// Blocks of emission cells the photons are shot in (the unit of a rank's share).
+int classic_emission_blocks();
+
+/// The photons of several ranks' shares (in rank order, each from shoot_classic_photons with
+/// share_rank = its index) in the order one process stores them: the same maps, bit for bit.
+/// Sums the lights' counts; the projection maps and timings are the first share's.
+ClassicPhotonResult merge_classic_photons(std::vector<ClassicPhotonResult>&& shares);
 
 /// Photons the cell scheme shoots for N requested: the sum over the 1 310 720 cells of
 /// floor(N a_T), a_T the cell's solid angle over 4 pi. About N - 655 360 for large N.

@@ -37,13 +37,21 @@ inline double next_radius2(double radius2, int pass, double alpha) {
     return radius2 * (static_cast<double>(pass) + alpha) / (static_cast<double>(pass) + 1.0);
 }
 
+/// The per-pixel sums of a progressive accumulation, in integers: each pass's sample is rounded
+/// to fixed point once and added exactly, so the sums do not depend on the order the passes are
+/// added in. Ranks that ran different passes add their sums (Cluster::reduce_sum) and get the
+/// bits one process gets (issue 13). Colour is held to 2^-40 (two int64 per channel, up to
+/// 2^31 per sample and 2^24 passes); the error statistics to 2^-24. 100 bytes per pixel.
 class ProgressiveAccumulator {
 public:
+    /// int64 sums per pixel (see sums()).
+    static constexpr std::size_t sums_per_pixel = 12;
+
     /// Empties the sums for an image of this size.
     void reset(int width, int height);
     int width() const { return width_; }
     int height() const { return height_; }
-    bool empty() const { return pixels_.empty(); }
+    bool empty() const { return counts_empty(); }
 
     /// Adds a pass's sample to a pixel; returns the pixel's new mean colour. Pixels are
     /// independent: tiles may add concurrently to different pixels.
@@ -51,11 +59,15 @@ public:
 
     /// The mean colour of a pixel (black before its first sample).
     glm::vec3 mean(std::size_t pixel) const;
-    /// A pixel's first gather radius r_1 (0 until a pass gathered for it), and setting it once.
-    float first_radius(std::size_t pixel) const { return pixels_[pixel].first_radius; }
-    void set_first_radius(std::size_t pixel, float radius) { pixels_[pixel].first_radius = radius; }
+    /// A pixel's first gather radius r_1: found by the first pass (pass 0) at the pixel's first
+    /// gather, 0 when that pass gathered nothing there (later passes then find a radius at each
+    /// gather, so that no pass depends on another but the first).
+    float first_radius(std::size_t pixel) const { return first_radius_[pixel]; }
+    void set_first_radius(std::size_t pixel, float radius) { first_radius_[pixel] = radius; }
     /// Samples a pixel has (passes that reached it).
-    std::uint32_t samples(std::size_t pixel) const { return pixels_[pixel].count; }
+    std::uint32_t samples(std::size_t pixel) const {
+        return static_cast<std::uint32_t>(sums_[pixel * sums_per_pixel + count_slot]);
+    }
 
     /// The accumulated image (means).
     Image image() const;
@@ -64,21 +76,24 @@ public:
     ErrorEstimate estimate_error() const;
 
     /// Bytes held: fixed by the image size.
-    std::size_t memory_bytes() const { return pixels_.capacity() * sizeof(Pixel); }
+    std::size_t memory_bytes() const {
+        return sums_.capacity() * sizeof(std::int64_t) + first_radius_.capacity() * sizeof(float);
+    }
+
+    /// The integer sums, sums_per_pixel per pixel in pixel order: what ranks add together. The
+    /// radii are not in it (every rank finds the same ones).
+    std::vector<std::int64_t>& sums() { return sums_; }
+    const std::vector<std::int64_t>& sums() const { return sums_; }
 
 private:
-    // Running means and sums of squared deviations (Welford), stable in float for any count.
-    struct Pixel {
-        glm::vec3 mean{0.0f};
-        float value_m2 = 0.0f;  ///< of the sample value (mean of the channels)
-        float photon = 0.0f;    ///< mean photon radiance
-        float bias = 0.0f;      ///< mean bias probe 2 (L_r - L_{r/sqrt 2})
-        float bias_m2 = 0.0f;
-        float first_radius = 0.0f;  ///< r_1 of the pixel's gathers (0 until its first gather)
-        std::uint32_t count = 0;
-    };
+    // Per pixel: colour in two parts (units of 2^-8 and the remainder in units of 2^-40), then in
+    // units of 2^-24 the sample value v (mean of the channels, clamped to [0, 256]) and v^2, the
+    // photon probe, the bias probe and its square, then the sample count.
+    enum Slot : std::size_t { colour_high = 0, colour_low = 3, value = 6, value2, photon, bias, bias2, count_slot };
+    bool counts_empty() const { return sums_.empty(); }
     int width_ = 0, height_ = 0;
-    std::vector<Pixel> pixels_;
+    std::vector<std::int64_t> sums_;
+    std::vector<float> first_radius_;
 };
 
 }  // namespace caustica

@@ -21,6 +21,7 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
+#include <cstring>
 #include <algorithm>
 #include <functional>
 #include <limits>
@@ -148,9 +149,15 @@ void RenderSession::prepare_checked_scene() {
 }
 
 void RenderSession::prepare() {
+    cancel_requested_ = false;  // set_job cancelled the last render, not this
     prepare_checked_scene();
     if (cancel_requested_) return;  // the photon pass would be thrown away
     prepare_caustics();
+}
+
+void RenderSession::prepare_geometry() {
+    cancel_requested_ = false;
+    prepare_checked_scene();
 }
 
 void RenderSession::prepare_scene() {
@@ -217,7 +224,7 @@ void RenderSession::prepare_caustics() {
         extras.progress = &photon_progress_;
         build_progressive_pass(*fresh, *scene_, job_, &cancel_requested_, extras);
     } else {
-        build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_, textures_.get());
+        build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_, textures_.get(), cluster_);
     }
     fresh->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
     std::lock_guard lock(mutex_);  // published at once: the preview shows maps and counts early
@@ -290,6 +297,10 @@ void RenderSession::run() {
         // Flush-to-zero is set per task where rays are traced (tiles, photons, projection maps),
         // not here: validation must see the smallest numbers as they are.
         arena.execute([&] {
+            if (distributed()) {
+                run_distributed(arena, threads);
+                return;
+            }
             prepare_checked_scene();
             if (cancel_requested_) return;
             // An accumulating preview shows direct light at once: a coarse pass before photons
@@ -306,6 +317,11 @@ void RenderSession::run() {
             }
             render_passes(arena, threads);
         });
+    } catch (const ClusterError& e) {
+        if (e.interrupted())
+            cancel_requested_ = true;  // another rank (or this one) was interrupted: every rank stops
+        else
+            error_ = std::current_exception();
     } catch (const InputError& e) {
         error_ = std::make_exception_ptr(located_option_error(job_, e));
     } catch (...) {
@@ -318,6 +334,37 @@ void RenderSession::run() {
     progress_.elapsed_seconds = now_seconds() - start_time_;
     stats_.total_seconds = progress_.elapsed_seconds;
     running_ = false;
+}
+
+std::optional<RankFailure> RenderSession::interruption() const {
+    if (!cancel_requested_) return std::nullopt;
+    return RankFailure{cluster_ ? cluster_->rank() : 0, cluster_interrupted_code, "interrupted"};
+}
+
+void RenderSession::run_distributed(tbb::task_arena& arena, int threads) {
+    // Each step runs locally, then every rank says how it went: a failure on any rank stops them
+    // all at the same point. (A ClusterError was agreed on by every rank already: passed on.)
+    auto step = [&](auto&& body) {
+        std::exception_ptr error;
+        try {
+            body();
+        } catch (const ClusterError&) {
+            throw;
+        } catch (const InputError& e) {
+            error = std::make_exception_ptr(located_option_error(job_, e));
+        } catch (...) {
+            error = std::current_exception();
+        }
+        if (!error && cancel_requested_) cluster_->checkpoint(interruption());
+        cluster_->checkpoint(error);
+    };
+    step([&] { prepare_checked_scene(); });
+    step([&] { prepare_caustics(); });
+    {
+        std::lock_guard lock(mutex_);
+        progress_.prepared = true;
+    }
+    step([&] { render_passes(arena, threads); });
 }
 
 ShadingSetup RenderSession::make_setup() const {
@@ -391,6 +438,25 @@ struct RenderSession::PassRunner {
         session.add_stage_time(name, now_seconds() - t0);
     }
 
+    /// Runs `body` on tiles [first, last) (a batch another rank may have been given instead):
+    /// published like run()'s, not counted as done (the rank that collects them counts them).
+    template <typename Body>
+    void run_range(int first, int last, Body&& body) {
+        const std::vector<Tile>& tiles = session.tiles_;
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& range) {
+                const ScopedFlushDenormals flush;
+                for (int i = range.begin(); i != range.end(); ++i) {
+                    if (session.cancel_requested_.load(std::memory_order_relaxed)) return;
+                    const std::size_t t = static_cast<std::size_t>(i);
+                    std::lock_guard tile_lock(session.tile_mutexes_[t]);
+                    body(t, tiles[t], counters.local());
+                    session.tile_versions_[t].store(++session.version_counter_, std::memory_order_release);
+                }
+            });
+        });
+    }
+
     RayCounters total() const {
         RayCounters t;
         for (const RayCounters& c : counters) t += c;
@@ -447,6 +513,8 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
 
     if (options.accumulates()) {
         accumulate_passes(runner, setup, context);
+    } else if (distributed()) {
+        render_distributed_classic(runner, context);
     } else {
         const std::vector<Tile>& tiles = tiles_;
         refine_.assign(static_cast<std::size_t>(width) * height, 0);
@@ -473,11 +541,131 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
             });
         }
     }
+    RayCounters rays = runner.total();
+    if (distributed()) {  // what every rank traced
+        cluster_->checkpoint(interruption());
+        for (std::uint64_t* count : {&rays.samples, &rays.supersampled_pixels, &rays.primary, &rays.shadow,
+                                     &rays.reflected, &rays.refracted, &rays.gathers})
+            *count = static_cast<std::uint64_t>(cluster_->all_sum(static_cast<long long>(*count)));
+    }
     std::lock_guard lock(mutex_);
-    stats_.rays = runner.total();
+    stats_.rays = rays;
     stats_.threads = threads;
     stats_.integrator = integrator->name();
     ++counters_.renders;
+}
+
+// A tile's result: its pixels, row by row, then (classic) its pixels' corner_grid refine flags.
+Cluster::Bytes RenderSession::tile_bytes(int first, int last) const {
+    Cluster::Bytes bytes;
+    for (int i = first; i < last; ++i) {
+        const Tile& t = tiles_[static_cast<std::size_t>(i)];
+        const std::size_t width = static_cast<std::size_t>(t.x1 - t.x0);
+        for (int y = t.y0; y < t.y1; ++y) {
+            const auto* row = reinterpret_cast<const std::uint8_t*>(&image_.at(t.x0, y));
+            bytes.insert(bytes.end(), row, row + sizeof(glm::vec3) * width);
+            const std::uint8_t* flags = refine_.data() + static_cast<std::size_t>(y) * image_.width + t.x0;
+            bytes.insert(bytes.end(), flags, flags + width);
+        }
+    }
+    return bytes;
+}
+
+void RenderSession::put_tile_bytes(int first, int last, const Cluster::Bytes& bytes) {
+    std::size_t at = 0;
+    for (int i = first; i < last; ++i) {
+        const std::size_t index = static_cast<std::size_t>(i);
+        const Tile& t = tiles_[index];
+        const std::size_t width = static_cast<std::size_t>(t.x1 - t.x0), row_bytes = (sizeof(glm::vec3) + 1) * width;
+        if (at + row_bytes * static_cast<std::size_t>(t.y1 - t.y0) > bytes.size())
+            throw std::runtime_error("tile results from another rank are truncated");
+        std::lock_guard tile_lock(tile_mutexes_[index]);
+        for (int y = t.y0; y < t.y1; ++y, at += row_bytes) {
+            std::memcpy(&image_.at(t.x0, y), bytes.data() + at, sizeof(glm::vec3) * width);
+            std::memcpy(refine_.data() + static_cast<std::size_t>(y) * image_.width + t.x0,
+                        bytes.data() + at + sizeof(glm::vec3) * width, width);
+        }
+        tile_versions_[index].store(++version_counter_, std::memory_order_release);
+        tiles_done_.fetch_add(1, std::memory_order_relaxed);
+    }
+}
+
+void RenderSession::render_distributed_classic(PassRunner& runner, TileContext& context) {
+    // The classic passes with rank 0 handing out batches of tiles as ranks ask for them; every
+    // pixel's samples come from its own random stream, so the image is one process's.
+    const int width = job_.width, height = job_.height;
+    refine_.assign(static_cast<std::size_t>(width) * height, 0);
+    context.refine = &refine_;
+    const bool antialias = has_antialiasing_pass(context);
+    {
+        std::lock_guard lock(mutex_);
+        progress_.passes = antialias ? 2 : 1;
+        progress_.tiles_total = tiles_.size() * progress_.passes;
+    }
+    const int tiles = static_cast<int>(tiles_.size());
+    const int batch = std::max(1, 4 * tbb::this_task_arena::max_concurrency());
+    auto share = [&](const char* name, int pass, auto&& body) {
+        set_stage(name);
+        {
+            std::lock_guard lock(mutex_);
+            progress_.pass = pass;
+        }
+        const double t0 = now_seconds();
+        cluster_->checkpoint(interruption());
+        const Cluster::WorkFn work = [&](int first, int last) {
+            runner.run_range(first, last, body);
+            if (cancel_requested_) throw ClusterError(*interruption());
+            return tile_bytes(first, last);
+        };
+        const Cluster::CollectFn collect = [&](int first, int last, const Cluster::Bytes& bytes) {
+            put_tile_bytes(first, last, bytes);
+        };
+        if (const std::optional<RankFailure> failure = cluster_->share_work(tiles, batch, work, collect, &cancel_requested_))
+            throw ClusterError(*failure);
+        std::lock_guard lock(mutex_);
+        add_stage_time(name, now_seconds() - t0);
+    };
+    share("first samples", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
+        render_first_pass_tile(context, tile, image_, c);
+    });
+    if (!antialias) return;
+    // The anti-aliasing pass reads the whole first pass (and corner_grid's flags): rank 0 has it.
+    cluster_->checkpoint(interruption());
+    Cluster::Bytes first;
+    const std::size_t pixels = static_cast<std::size_t>(width) * height;
+    if (cluster_->rank() == 0) {
+        first.resize(pixels * sizeof(glm::vec3) + pixels);
+        std::memcpy(first.data(), image_.pixels.data(), pixels * sizeof(glm::vec3));
+        std::memcpy(first.data() + pixels * sizeof(glm::vec3), refine_.data(), pixels);
+    }
+    cluster_->broadcast(first, 0);
+    if (first.size() != pixels * sizeof(glm::vec3) + pixels)
+        throw std::runtime_error("the first pass from rank 0 has the wrong size");
+    if (cluster_->rank() != 0) {
+        std::memcpy(image_.pixels.data(), first.data(), pixels * sizeof(glm::vec3));
+        std::memcpy(refine_.data(), first.data() + pixels * sizeof(glm::vec3), pixels);
+    }
+    first_pass_ = image_;
+    share("anti-aliasing", 1, [&](std::size_t, const Tile& tile, RayCounters& c) {
+        render_antialiasing_tile(context, tile, first_pass_, image_, c);
+    });
+}
+
+ErrorEstimate RenderSession::combined_error() {
+    // Every rank's sums added on rank 0 (a copy: the accumulation goes on), its estimate sent back.
+    cluster_->checkpoint(interruption());
+    ProgressiveAccumulator all;
+    all.reset(accumulator_.width(), accumulator_.height());
+    all.sums() = accumulator_.sums();
+    cluster_->reduce_sum(all.sums());
+    ErrorEstimate e;
+    if (cluster_->rank() == 0) e = all.estimate_error();
+    Cluster::Bytes bytes(sizeof e);
+    std::memcpy(bytes.data(), &e, sizeof e);
+    cluster_->broadcast(bytes, 0);
+    if (bytes.size() != sizeof e) throw std::runtime_error("the error estimate from rank 0 has the wrong size");
+    std::memcpy(&e, bytes.data(), sizeof e);
+    return e;
 }
 
 namespace {
@@ -496,15 +684,21 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
     // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
     // (i + 1); each pixel averages its passes' jittered samples. Noise and bias both vanish as
     // passes grow, in memory fixed by the image size. r_1(x) is where the first pass's map has its
-    // N-th nearest photon from x (capped by the maximum distance): small where photons crowd.
+    // N-th nearest photon from the first pass's gather point in the pixel (capped by the maximum
+    // distance): small where photons crowd.
+    // Every pass depends on the first alone (its map and radii), so passes can run anywhere: with
+    // K ranks (issue 13) the passes go in rounds, rank k running pass round K + k; the ranks that
+    // do not own pass 0 trace it for the radii alone. Their integer sums add up to one process's.
     constexpr double alpha = 2.0 / 3.0;
     const Options& options = job_.options;
+    const bool shared = distributed();
+    const int ranks = shared ? cluster_->size() : 1, rank = shared ? cluster_->rank() : 0;
     Accumulation& acc = accumulation_;
-    const bool resumed = acc.valid;
+    const bool resumed = acc.valid && !shared;
     if (!resumed) {
         accumulator_.reset(job_.width, job_.height);
         acc = Accumulation{};
-        acc.valid = true;
+        acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
         acc.seed = context.seed;
     }
     const int limit = options.passes;  // 0 = none
@@ -524,7 +718,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         // with the passes when no limit is set.
         const int shown = direct_first_ ? 1 : 0;
         const int coarse = progressive_ && !resumed && !direct_first_ ? 1 : 0;
-        const int planned = limit > 0 ? std::max(1, limit - acc.next_pass) : 1;
+        const int planned = limit > 0 ? std::max(1, (limit - acc.next_pass + ranks - 1) / ranks) : 1;
         progress_.passes = shown + coarse + planned;
         progress_.tiles_total = tiles_.size() * static_cast<std::size_t>(progress_.passes);
     }
@@ -534,49 +728,12 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
             render_coarse_tile(context, tile, preview_block_, image_, c);
         });
     }
-    double last_pass_seconds = 0.0, radius_log_before = 0.0;
-    std::uint64_t radius_samples_before = 0;
-    std::string stopped_by = "passes";
-    for (int images = 0;; ++images) {
-        const int p = acc.next_pass;
-        if (cancel_requested_) {
-            stopped_by = "cancelled";
-            break;
+    // What pass p gathers with: its map, the first pass's radii scaled by (r_p / r_1).
+    auto pass_setup_for = [&](const PhotonMap* map, int p) {
+        while (acc.scale_pass < p) {  // the same sequence of roundings whichever rank walks it
+            acc.scale2 = next_radius2(acc.scale2, acc.scale_pass + 1, alpha);
+            ++acc.scale_pass;
         }
-        if (limit > 0 && p >= limit) break;
-        if (options.target_error > 0.0 && acc.error.known && p >= 4 && acc.error.relative <= options.target_error) {
-            stopped_by = "target error";
-            break;
-        }
-        // No pass that would end past the time limit (predicted from the last one); at least one.
-        if (options.time_limit > 0.0 && p > 0 && elapsed() + last_pass_seconds > options.time_limit) {
-            stopped_by = "time";
-            break;
-        }
-        const double t0 = now_seconds();
-        std::unique_ptr<CausticStage> fresh;
-        const PhotonMap* map = has_photons ? caustics_->map.get() : nullptr;
-        if (p > 0 && has_photons) {
-            PhotonPassExtras extras;
-            extras.seed = hash_combine(acc.seed ^ 0x7061737365730000ULL, static_cast<std::uint64_t>(p));
-            extras.first = caustics_.get();
-            extras.progress = &photon_progress_;
-            photon_progress_ = 0;
-            {
-                std::lock_guard lock(mutex_);
-                progress_.photons_done = 0;
-                progress_.photons_total = photon_directions(*caustics_);
-            }
-            fresh = std::make_unique<CausticStage>();
-            set_stage("shooting photons");
-            build_progressive_pass(*fresh, *scene_, job_, &cancel_requested_, extras);
-            if (cancel_requested_) {
-                stopped_by = "cancelled";
-                break;
-            }
-            map = fresh->map.get();
-        }
-        if (has_photons) acc.photons_emitted += photon_directions(fresh ? *fresh : *caustics_);
         ShadingSetup pass_setup = setup;
         pass_setup.caustic_map = map;
         pass_setup.radius_map = has_photons ? caustics_->map.get() : nullptr;
@@ -584,26 +741,108 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         // like everything else, with no grid pattern and n^2 fewer shadow rays a pass.
         pass_setup.shadow_grid = 1;
         pass_setup.radius_scale = static_cast<float>(std::sqrt(acc.scale2));
-        const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
-        TileContext pass_context = context;
-        pass_context.integrator = pass_integrator.get();
-        pass_context.seed = acc.seed;
-        if (images > 0) {  // one more pass to show: the tile total grows when there is no limit
-            std::lock_guard lock(mutex_);
-            if (limit == 0) {
-                ++progress_.passes;
-                progress_.tiles_total += tiles_.size();
-            }
-        }
-        runner.run("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
-            render_accumulation_tile(pass_context, tile, p, accumulator_, image_, c);
+        return pass_setup;
+    };
+    if (shared && !resumed && rank != 0 && !cancel_requested_) {
+        const ShadingSetup first_setup = pass_setup_for(has_photons ? caustics_->map.get() : nullptr, 0);
+        const std::unique_ptr<Integrator> first_integrator = make_integrator(options.integrator, first_setup);
+        TileContext first_context = context;
+        first_context.integrator = first_integrator.get();
+        first_context.seed = acc.seed;
+        runner.run("first radii", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
+            render_accumulation_tile(first_context, tile, 0, accumulator_, image_, c, true);
         });
+    }
+    double last_round_seconds = 0.0, radius_log_before = 0.0;
+    std::uint64_t radius_samples_before = 0;
+    int next_error_check = 0;  // shared: the round whose end estimates the error (with --target-error)
+    std::string stopped_by = "passes";
+    for (int round = 0;; ++round) {
+        const int base = acc.next_pass;
+        if (cancel_requested_ && !shared) {
+            stopped_by = "cancelled";
+            break;
+        }
+        if (limit > 0 && base >= limit) break;
+        if (options.target_error > 0.0 && acc.error.known && base >= 4 && acc.error.relative <= options.target_error) {
+            stopped_by = "target error";
+            break;
+        }
+        // No round that would end past the time limit (predicted from the last one); at least one.
+        // With ranks, the slowest rank's times decide, the same on every rank.
+        // (Asked only after a round: its end was a checkpoint every rank passed.)
+        if (options.time_limit > 0.0 && base > 0 &&
+            (shared ? cluster_->all_max(elapsed()) : elapsed()) + last_round_seconds > options.time_limit) {
+            stopped_by = "time";
+            break;
+        }
+        const int p = base + rank;
+        const bool mine = limit == 0 || p < limit;
+        const double t0 = now_seconds();
+        std::unique_ptr<CausticStage> fresh;
+        long long round_photons = 0;
+        if (mine) {
+            const PhotonMap* map = has_photons ? caustics_->map.get() : nullptr;
+            if (p > 0 && has_photons) {
+                PhotonPassExtras extras;
+                extras.seed = hash_combine(acc.seed ^ 0x7061737365730000ULL, static_cast<std::uint64_t>(p));
+                extras.first = caustics_.get();
+                extras.progress = &photon_progress_;
+                photon_progress_ = 0;
+                {
+                    std::lock_guard lock(mutex_);
+                    progress_.photons_done = 0;
+                    progress_.photons_total = photon_directions(*caustics_);
+                }
+                fresh = std::make_unique<CausticStage>();
+                set_stage("shooting photons");
+                build_progressive_pass(*fresh, *scene_, job_, &cancel_requested_, extras);
+                if (cancel_requested_ && !shared) {
+                    stopped_by = "cancelled";
+                    break;
+                }
+                map = fresh->map.get();
+            }
+            if (has_photons) round_photons = photon_directions(fresh ? *fresh : *caustics_);
+            const ShadingSetup pass_setup = pass_setup_for(map, p);
+            const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
+            TileContext pass_context = context;
+            pass_context.integrator = pass_integrator.get();
+            pass_context.seed = acc.seed;
+            if (round > 0) {  // one more pass to show: the tile total grows when there is no limit
+                std::lock_guard lock(mutex_);
+                if (limit == 0) {
+                    ++progress_.passes;
+                    progress_.tiles_total += tiles_.size();
+                }
+            }
+            if (!(shared && cancel_requested_))
+                runner.run("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
+                    render_accumulation_tile(pass_context, tile, p, accumulator_, image_, c);
+                });
+        }
+        double round_seconds = now_seconds() - t0;
+        if (shared) {  // the round's end: every rank's state, photons and time
+            cluster_->checkpoint(interruption());
+            round_photons = cluster_->all_sum(round_photons);
+            round_seconds = cluster_->all_max(round_seconds);
+        }
         // Pass p + 1 (1-based) has been averaged, wholly or (cancelled) in part: its pixels keep
-        // their sample, the next pass is new and gathers within r_{p+2}.
-        acc.next_pass = p + 1;
-        acc.scale2 = next_radius2(acc.scale2, p + 1, alpha);
-        acc.error = accumulator_.estimate_error();
-        if (cancel_requested_) {
+        // their sample, the next pass is new.
+        acc.next_pass = limit > 0 ? std::min(limit, base + ranks) : base + ranks;
+        acc.photons_emitted += round_photons;
+        if (!shared) {
+            acc.error = accumulator_.estimate_error();
+        } else if (options.target_error > 0.0 && round >= next_error_check) {
+            // Adding every rank's sums costs time: often enough that the reduction stays under a
+            // tenth of the rounds' time, the same decision on every rank.
+            const double t_check = now_seconds();
+            acc.error = combined_error();
+            const double check_seconds = cluster_->all_max(now_seconds() - t_check);
+            const double rounds = std::ceil(check_seconds / std::max(0.1 * round_seconds, 1e-9));
+            next_error_check = round + static_cast<int>(std::clamp(rounds, 1.0, 64.0));
+        }
+        if (cancel_requested_ && !shared) {
             stopped_by = "cancelled";
             break;
         }
@@ -615,9 +854,9 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
                                   : 0.0;
         radius_log_before = pass_total.radius_log_sum;
         radius_samples_before = pass_total.radius_samples;
-        if (p == 0) acc.first_radius = radius;
+        if (base == 0) acc.first_radius = radius;
         acc.radius = radius;
-        last_pass_seconds = now_seconds() - t0;
+        last_round_seconds = round_seconds;
         std::lock_guard lock(mutex_);
         progress_.passes_done = acc.next_pass;
         progress_.photons_emitted = acc.photons_emitted;
@@ -632,10 +871,28 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
             add_stage_time("photon passes", fresh->map_seconds + fresh->shoot_seconds + fresh->tree_seconds);
         }
     }
+    if (shared) {
+        // Every rank's sums on rank 0, which makes the image and the estimate one process makes.
+        cluster_->checkpoint(interruption());
+        cluster_->reduce_sum(accumulator_.sums());
+        if (rank == 0) {
+            acc.error = accumulator_.estimate_error();
+            for (std::size_t i = 0; i < tiles_.size(); ++i) {
+                std::lock_guard tile_lock(tile_mutexes_[i]);
+                const Tile& t = tiles_[i];
+                for (int y = t.y0; y < t.y1; ++y)
+                    for (int x = t.x0; x < t.x1; ++x)
+                        image_.at(x, y) = accumulator_.mean(static_cast<std::size_t>(y) * job_.width + x);
+                tile_versions_[i].store(++version_counter_, std::memory_order_release);
+            }
+        }
+    }
     acc.seconds = seconds_before + (now_seconds() - segment_start);
     std::lock_guard lock(mutex_);
     progress_.stopped_by = stopped_by;
     progress_.accumulated_seconds = acc.seconds;
+    progress_.passes_done = acc.next_pass;
+    progress_.error = acc.error;
     RenderStats::Accumulation& a = stats_.accumulation;
     a.passes = acc.next_pass;
     a.first_radius = acc.first_radius;

@@ -11,6 +11,7 @@
 #include "core/scene/scene_desc.h"
 #include "core/render/tile_renderer.h"
 #include "core/render/progressive_accumulator.h"
+#include "core/render/cluster.h"
 
 #include <tbb/task_arena.h>
 
@@ -98,8 +99,14 @@ public:
     /// Cancels and waits for a render in progress.
     void set_job(const RenderJob& job);
 
-    /// Builds the stale stages synchronously (flattening, BVH). Throws InputError on scene errors.
+    /// Builds the stale stages synchronously (flattening, BVH, photon maps). Throws InputError on
+    /// scene errors. With a cluster of several ranks, every rank must call it (the classic photons
+    /// are shared).
     void prepare();
+
+    /// Builds the scene alone (flattening, BVH: what pick() needs), synchronously; cached like
+    /// prepare()'s. Never talks to other ranks. Throws InputError on scene errors.
+    void prepare_geometry();
 
     /// Starts rendering on the background thread pool (preparing first if needed); returns at once.
     void start();
@@ -152,6 +159,14 @@ public:
         preview_block_ = block > 0 && tile_size % block == 0 ? block : preview_block;
     }
 
+    /// Renders each job together with the other ranks of `cluster` (issue 13; null or one rank:
+    /// alone). Every rank's session must be given the same jobs in the same order and run them to
+    /// the end (batch rendering: no resume). Rank 0's image is the one a single process makes from
+    /// the same seeds; the other ranks' images are partial. A failure on any rank fails every rank
+    /// with that rank's message (ClusterError from wait()); an interruption on any rank interrupts
+    /// every rank.
+    void set_cluster(Cluster* cluster) { cluster_ = cluster; }
+
     /// The tiles of the current image.
     const std::vector<Tile>& tiles() const { return tiles_; }
 
@@ -170,13 +185,20 @@ public:
     StageCounters stage_counters() const;
 
 private:
+    struct PassRunner;
     void run();                 // the background thread's body
+    void run_distributed(tbb::task_arena& arena, int threads);  // run() with the other ranks
+    bool distributed() const { return cluster_ && cluster_->size() > 1; }
+    void render_distributed_classic(PassRunner& runner, TileContext& context);
+    std::optional<RankFailure> interruption() const;  // this rank's, when cancelled
+    ErrorEstimate combined_error();  // the estimate from every rank's sums (collective)
+    Cluster::Bytes tile_bytes(int first, int last) const;
+    void put_tile_bytes(int first, int last, const Cluster::Bytes& bytes);
     void prepare_scene();       // flattening, BVH, textures
     void prepare_checked_scene();  // the job validated, its scene built, its option warnings
     void prepare_caustics();    // projection maps, photons, k-d tree
     void publish_caustic_stats();  // under mutex_
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
-    struct PassRunner;
     void accumulate_passes(PassRunner& runner, const ShadingSetup& setup, const TileContext& context);
     ShadingSetup make_setup() const;  // everything the integrator needs but the photon maps
     void render_direct_preview(tbb::task_arena& arena);  // a coarse pass before photons are shot
@@ -205,8 +227,9 @@ private:
     // Progressive accumulation, kept across start()s so that resume() continues it.
     struct Accumulation {
         bool valid = false;       // the buffers hold passes of the current job
-        int next_pass = 0;        // 0-based index of the next pass
-        double scale2 = 1.0;      // (r_i / r_1)^2 of the next pass
+        int next_pass = 0;        // 0-based index of the next pass (of the next round, with ranks)
+        int scale_pass = 0;       // the pass scale2 is for
+        double scale2 = 1.0;      // (r_i / r_1)^2 of pass scale_pass (+ 1 = i)
         double first_radius = 0.0, radius = 0.0;  // mean radius of the first and the last pass
         std::uint64_t seed = 0;   // base of the photon and pixel streams
         long long photons_emitted = 0;
@@ -227,6 +250,7 @@ private:
     std::thread worker_;
     std::atomic<bool> cancel_requested_{false};
     std::atomic<bool> running_{false};
+    Cluster* cluster_ = nullptr;
     std::exception_ptr error_;
 
     mutable std::mutex mutex_;  // guards the fields below

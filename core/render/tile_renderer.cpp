@@ -125,7 +125,7 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
 }
 
 void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
-                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters) {
+                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters, bool radius_only) {
     // The probes are read from zero around each ray (then added back), so that what a pixel gets
     // does not depend on what else the thread's counters summed: the same bits for any thread count.
     const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
@@ -140,8 +140,10 @@ void render_accumulation_tile(const TileContext& context, const Tile& tile, int 
             counters.first_radius = accumulator.first_radius(index);
             PassSample sample;
             sample.colour = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
-            if (accumulator.first_radius(index) == 0.0f && counters.first_radius > 0.0f)
-                accumulator.set_first_radius(index, counters.first_radius);
+            // r_1 is the first pass's alone: a later pass that gathers where the first did not
+            // finds its own radius at each gather and keeps none (no pass depends on another).
+            if (pass == 0 && counters.first_radius > 0.0f) accumulator.set_first_radius(index, counters.first_radius);
+            if (radius_only) continue;
             sample.photon = counters.photon_value;
             sample.photon_inner = counters.photon_value_inner;
             photon_total += sample.photon;

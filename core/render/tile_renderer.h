@@ -47,9 +47,12 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold);
 
 /// One progressive pass (0-based `pass`): a jittered sample per pixel, deterministic per (pixel,
-/// pass), added to the accumulator with its photon probes; the pixel's mean goes to `out`.
+/// pass), added to the accumulator with its photon probes; the pixel's mean goes to `out`. Pass 0
+/// also sets the pixels' r_1. `radius_only` (pass 0 on a rank that does not own it) sets r_1 and
+/// adds nothing.
 void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
-                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters);
+                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters,
+                              bool radius_only = false);
 
 /// B3's difference of the four corner samples of a pixel: the sum over the 6 pairs of the
 /// squared RGB differences (unclamped).

@@ -1,8 +1,8 @@
 // The orbit camera and the image layout: exact return to the script's camera, orbits that keep
 // the distance and the target, pole limits, pan that follows the cursor, zoom, retargeting.
 #include "core/scene/camera.h"
+#include "core/scene/orbit_camera.h"
 #include "ui/image_layout.h"
-#include "ui/orbit_camera.h"
 
 #include <gtest/gtest.h>
 

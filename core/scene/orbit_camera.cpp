@@ -1,4 +1,4 @@
-#include "ui/orbit_camera.h"
+#include "core/scene/orbit_camera.h"
 
 #include "core/scene/camera.h"
 
@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace caustica::ui {
+namespace caustica {
 namespace {
 
 constexpr double min_pole_angle = glm::radians(1.0);
@@ -90,4 +90,4 @@ double default_target_distance(const CameraDesc& camera) {
     return along > 0.0 ? along : 1.0;
 }
 
-}  // namespace caustica::ui
+}  // namespace caustica

@@ -1,12 +1,12 @@
-// The preview's camera: the script's eye and view direction, orbited around a target point on
-// the view axis (drag to orbit, scroll to zoom, pan, set the target by picking).
+// An orbit camera: the script's eye and view direction, orbited around a target point on the
+// view axis. The preview drags it (ui/); `caustica render --orbit-frames` turns it (app/animation).
 #pragma once
 
 #include "core/scene/scene_desc.h"
 
 #include <glm/glm.hpp>
 
-namespace caustica::ui {
+namespace caustica {
 
 /// An orbit camera that starts as the script's camera and returns to it exactly on reset.
 class OrbitCamera {
@@ -58,4 +58,4 @@ private:
 /// the world origin, or 1 when that is behind the eye.
 double default_target_distance(const CameraDesc& camera);
 
-}  // namespace caustica::ui
+}  // namespace caustica

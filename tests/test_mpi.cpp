@@ -1,0 +1,153 @@
+// `caustica render` under mpirun (issue 13), real processes on this machine: K ranks make one
+// process's image bit for bit (both integrators, --reproducible), share whole frames of an
+// animation, stop together with the failing rank's message, and stop together on Ctrl-C with
+// nothing written. Skipped, saying why, where caustica was built without MPI.
+#include "run_command.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <thread>
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+using caustica::testing::CommandResult;
+using caustica::testing::run_shell;
+
+namespace {
+
+const std::string mpirun = CAUSTICA_MPIRUN;
+const std::string binary = CAUSTICA_BINARY;
+const std::string box = CAUSTICA_SOURCE_DIR "/tests/ui/scenes/caustic_box.lua";
+
+class Mpi : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (mpirun.empty())
+            GTEST_SKIP() << "caustica was built without MPI (apt install openmpi-bin libopenmpi-dev, then configure again)";
+        dir_ = fs::temp_directory_path() /
+               ("caustica-mpi-" + std::to_string(::getpid()) + "-" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        if (!dir_.empty()) fs::remove_all(dir_);
+    }
+
+    /// mpirun's own options: root needs the flag (CI runs as root); more ranks than cores need
+    /// --oversubscribe.
+    static std::string launcher(int ranks) {
+        std::string l = "'" + mpirun + "' -n " + std::to_string(ranks);
+        if (::geteuid() == 0) l += " --allow-run-as-root";
+        if (ranks > 2) l += " --oversubscribe";
+        return l;
+    }
+
+    CommandResult render(const std::string& args, int ranks) const {
+        const std::string caustica = "'" + binary + "' render " + args;
+        return run_shell("cd '" + dir_.string() + "' && " + (ranks > 0 ? launcher(ranks) + " " : "") + caustica);
+    }
+
+    std::string read(const std::string& name) const {
+        std::ifstream in(dir_ / name, std::ios::binary);
+        return {std::istreambuf_iterator<char>(in), {}};
+    }
+    bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
+
+    fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(Mpi, TwoAndThreeProcessesMakeOneProcesssImageForBothIntegrators) {
+    for (const std::string integrator : {"classic", "progressive"}) {
+        const std::string args = "'" + box + "' --reproducible --lores --caustic-num-photons 200000 --integrator " +
+                                 integrator + (integrator == "progressive" ? " --passes 5" : "");
+        const CommandResult alone = render(args + " -o alone.pfm", 0);
+        ASSERT_EQ(alone.code, 0) << alone.output;
+        for (int ranks : {2, 3}) {
+            const std::string name = integrator + std::to_string(ranks) + ".pfm";
+            const CommandResult shared = render(args + " -o " + name, ranks);
+            ASSERT_EQ(shared.code, 0) << shared.output;
+            // Rank 0 alone speaks: one line for the file written.
+            std::size_t wrote = 0;
+            for (std::size_t at = 0; (at = shared.output.find("wrote ", at)) != std::string::npos; ++at) ++wrote;
+            EXPECT_EQ(wrote, 1u) << shared.output;
+            EXPECT_EQ(read(name), read("alone.pfm")) << integrator << " on " << ranks << " processes";
+        }
+    }
+}
+
+TEST_F(Mpi, MoreFramesThanRanksAreSharedAsWholeFrames) {
+    const std::string args = "'" + box + "' --reproducible --minres --caustic-num-photons 100000 --orbit-frames 3";
+    ASSERT_EQ(render(args + " -o alone.pfm", 0).code, 0);
+    const CommandResult shared = render(args + " -o shared.pfm", 2);
+    ASSERT_EQ(shared.code, 0) << shared.output;
+    for (const std::string frame : {"0001", "0002", "0003"}) {
+        ASSERT_TRUE(exists("shared-" + frame + ".pfm")) << shared.output;
+        EXPECT_EQ(read("shared-" + frame + ".pfm"), read("alone-" + frame + ".pfm")) << "frame " << frame;
+    }
+    EXPECT_NE(read("shared-0001.pfm"), read("shared-0002.pfm"));  // the camera did turn
+}
+
+TEST_F(Mpi, AnErrorOnOneRankStopsEveryRankWithThatRanksMessage) {
+    // Rank 1 alone is given a photon count no machine holds: mpirun's MPMD form, one program per
+    // rank. Rank 0 says what rank 1 found, every rank exits 2, nothing is written.
+    const std::string good = "'" + binary + "' render '" + box + "' --minres -o out.png";
+    std::string command = "cd '" + dir_.string() + "' && '" + mpirun + "'" + (::geteuid() == 0 ? " --allow-run-as-root" : "") +
+                          " -n 1 " + good + " : -n 1 " + good + " --caustic-num-photons 99000000000";
+    const CommandResult r = run_shell(command);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("caustica: rank 1 of 2: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("caustic-num-photons"), std::string::npos) << r.output;
+    EXPECT_FALSE(exists("out.png"));
+}
+
+TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
+    // A progressive render of a thousand passes; mpirun gets SIGINT after a second, as from a
+    // terminal, and passes it on. Every process ends within seconds, nothing is written.
+    const std::string log = (dir_ / "log.txt").string();
+    const std::string command = "cd '" + dir_.string() + "' && exec " + launcher(2) + " '" + binary + "' render '" +
+                                box + "' --lores --integrator progressive --passes 1000 -o never.pfm > '" + log + "' 2>&1";
+    const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+    pid_t pid = 0;
+    ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    ::kill(pid, SIGINT);
+    int status = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    bool ended = false;
+    while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30)) {
+        if (::waitpid(pid, &status, WNOHANG) == pid) {
+            ended = true;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (!ended) {
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, &status, 0);
+    }
+    ASSERT_TRUE(ended) << "mpirun did not end within 30 s of Ctrl-C";
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::ifstream in(log);
+    const std::string output{std::istreambuf_iterator<char>(in), {}};
+    EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+    EXPECT_FALSE(exists("never.pfm")) << output;
+    EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
+    EXPECT_LT(seconds, 10.0) << output;
+    // No rank is left running.
+    const CommandResult left = run_shell("pgrep -f 'render.*never[.]pfm' || true");
+    EXPECT_TRUE(left.output.empty()) << left.output;
+}
