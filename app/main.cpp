@@ -78,7 +78,18 @@ int main(int argc, char** argv) {
             const std::vector<std::string> render_args = render ? std::vector<std::string>(args.begin() + 1, args.end()) : args;
             return render_command(render_args);
         }
-        if (command == "view") return caustica::run_view_command({args.begin() + 1, args.end()});
+        if (command == "view") {
+            // The preview is one window of one process: under mpirun every rank would open one.
+            const char* ranks = std::getenv("OMPI_COMM_WORLD_SIZE");
+            if (ranks && std::string(ranks) != "1") {
+                const char* rank = std::getenv("OMPI_COMM_WORLD_RANK");
+                if (!rank || std::string(rank) == "0")
+                    std::fprintf(stderr, "caustica: view is one process with one window: start it without mpirun "
+                                         "(mpirun shares 'caustica render' only)\n");
+                return caustica::exit_usage;
+            }
+            return caustica::run_view_command({args.begin() + 1, args.end()});
+        }
         std::fprintf(stderr, "caustica: unknown command '%s'\n\n%s", command.c_str(), usage);
         return caustica::exit_usage;
     } catch (const std::bad_alloc&) {

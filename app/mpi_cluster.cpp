@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -28,6 +29,18 @@ void check(int code, const char* what) {
     int length = 0;
     MPI_Error_string(code, text, &length);
     throw std::runtime_error(std::string("MPI: ") + what + " failed: " + std::string(text, static_cast<std::size_t>(length)));
+}
+
+/// A collective that cannot finish on this rank (an MPI error, no memory for its buffers) leaves
+/// the other ranks inside it, where no agreement can reach them: say why and end every rank.
+template <typename Body>
+auto guarded(int rank, int size, const char* what, Body&& body) -> decltype(body()) {
+    try {
+        return body();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "caustica: rank %d of %d: %s: %s\n", rank, size, what, e.what());
+    }
+    abort_mpi(1);
 }
 
 class MpiCluster final : public Cluster {
@@ -57,7 +70,7 @@ public:
     int rank() const override { return rank_; }
     int size() const override { return size_; }
 
-    std::optional<RankFailure> agree(const std::optional<RankFailure>& mine) override {
+    std::optional<RankFailure> agree_unguarded(const std::optional<RankFailure>& mine) {
         const int candidate = mine ? rank_ : size_;
         int first = size_;
         check(MPI_Allreduce(&candidate, &first, 1, MPI_INT, MPI_MIN, collectives_), "MPI_Allreduce");
@@ -69,9 +82,9 @@ public:
         if (rank_ == first) {
             header[0] = mine->rank;
             header[1] = mine->exit_code;
-            message.resize(sizeof header);
+            message.resize(sizeof header + mine->message.size());
             std::memcpy(message.data(), header, sizeof header);
-            message.insert(message.end(), mine->message.begin(), mine->message.end());
+            std::copy(mine->message.begin(), mine->message.end(), message.begin() + sizeof header);
         }
         broadcast(message, first);
         if (message.size() >= sizeof header) std::memcpy(header, message.data(), sizeof header);
@@ -83,7 +96,7 @@ public:
         return failure;
     }
 
-    void broadcast(Bytes& bytes, int root) override {
+    void broadcast_unguarded(Bytes& bytes, int root) {
         std::uint64_t n = bytes.size();
         check(MPI_Bcast(&n, 1, MPI_UINT64_T, root, collectives_), "MPI_Bcast");
         if (rank_ != root) bytes.resize(static_cast<std::size_t>(n));
@@ -93,7 +106,7 @@ public:
         }
     }
 
-    std::vector<Bytes> all_gather(const Bytes& mine) override {
+    std::vector<Bytes> all_gather_unguarded(const Bytes& mine) {
         const std::size_t ranks = static_cast<std::size_t>(size_);
         std::vector<std::uint64_t> sizes(ranks);
         std::uint64_t my_size = mine.size();
@@ -124,7 +137,7 @@ public:
         return all;
     }
 
-    std::vector<Bytes> gather(const Bytes& mine) override {
+    std::vector<Bytes> gather_unguarded(const Bytes& mine) {
         // Point to point on the work communicator (no share_work is running): each rank's size,
         // then its bytes in chunks, received by rank 0 in rank order.
         std::vector<Bytes> all;
@@ -152,7 +165,7 @@ public:
         return all;
     }
 
-    void reduce_sum(std::vector<std::int64_t>& values) override {
+    void reduce_sum_unguarded(std::vector<std::int64_t>& values) {
         for (std::size_t at = 0; at < values.size(); at += max_chunk / 8) {
             const int count = static_cast<int>(std::min(max_chunk / 8, values.size() - at));
             if (rank_ == 0)
@@ -164,16 +177,44 @@ public:
         }
     }
 
-    long long all_sum(long long value) override {
+    long long all_sum_unguarded(long long value) {
         long long sum = 0;
         check(MPI_Allreduce(&value, &sum, 1, MPI_LONG_LONG, MPI_SUM, collectives_), "MPI_Allreduce");
         return sum;
     }
 
-    double all_max(double value) override {
+    double all_max_unguarded(double value) {
         double m = value;
         check(MPI_Allreduce(&value, &m, 1, MPI_DOUBLE, MPI_MAX, collectives_), "MPI_Allreduce");
         return m;
+    }
+
+    std::optional<RankFailure> agree(const std::optional<RankFailure>& mine) override {
+        return guarded(rank_, size_, "MPI agree", [&] { return agree_unguarded(mine); });
+    }
+
+    void broadcast(Bytes& bytes, int root) override {
+        return guarded(rank_, size_, "MPI broadcast", [&] { return broadcast_unguarded(bytes, root); });
+    }
+
+    std::vector<Bytes> all_gather(const Bytes& mine) override {
+        return guarded(rank_, size_, "MPI all_gather", [&] { return all_gather_unguarded(mine); });
+    }
+
+    std::vector<Bytes> gather(const Bytes& mine) override {
+        return guarded(rank_, size_, "MPI gather", [&] { return gather_unguarded(mine); });
+    }
+
+    void reduce_sum(std::vector<std::int64_t>& values) override {
+        return guarded(rank_, size_, "MPI reduce_sum", [&] { return reduce_sum_unguarded(values); });
+    }
+
+    long long all_sum(long long value) override {
+        return guarded(rank_, size_, "MPI all_sum", [&] { return all_sum_unguarded(value); });
+    }
+
+    double all_max(double value) override {
+        return guarded(rank_, size_, "MPI all_max", [&] { return all_max_unguarded(value); });
     }
 
     std::optional<RankFailure> share_work(int count, int batch, const WorkFn& work, const CollectFn& collect,
@@ -201,10 +242,12 @@ public:
                 if (!mine) mine = failure_of(std::current_exception(), rank_);
             }
         };
-        if (rank_ == 0)
-            hand_out(count, batch, run, take);
-        else
-            ask_for_work(run);
+        guarded(rank_, size_, "MPI share_work", [&] {
+            if (rank_ == 0)
+                hand_out(count, batch, run, take);
+            else
+                ask_for_work(run);
+        });
         return agree(mine);
     }
 

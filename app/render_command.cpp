@@ -5,6 +5,7 @@
 #include "core/lua/scene_loader.h"
 #include "core/io/image_io.h"
 #include "core/io/png_io.h"
+#include "core/render/random.h"
 #include "core/render/render_session.h"
 #include "core/scene/camera.h"
 #include "core/scene/source_location.h"
@@ -17,6 +18,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <new>
 #include <optional>
 #include <random>
@@ -277,14 +279,13 @@ int write_frame(const RenderJob& job, const std::string& scene_path, const std::
     return exit_ok;
 }
 
-/// Renders one job and writes its image (`write`: this process writes; under mpirun rank 0).
+/// Renders one job and writes its image.
 int render_job(RenderSession& session, const RenderJob& job, const std::string& scene_path, const std::string& path,
-               const std::string& frame, bool write = true) {
-    if (render_frame(session, job, path, write) != exit_ok) {
-        if (write && !job.options.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
+               const std::string& frame) {
+    if (render_frame(session, job, path, true) != exit_ok) {
+        if (!job.options.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
         return exit_interrupted;
     }
-    if (!write) return exit_ok;
     return write_frame(job, scene_path, path, frame, session.image(), session.stats());
 }
 
@@ -465,16 +466,32 @@ int render_with_ranks(Cluster& cluster, RenderSession& session, const RenderPlan
     if (static_cast<int>(frames.size()) <= ranks) {
         session.set_cluster(&cluster);
         for (const AnimationFrame& frame : frames) {
+            // Every rank renders; once every rank says it finished, rank 0 writes (an interruption
+            // anywhere before that writes nothing).
             std::exception_ptr error;
             int code = exit_ok;
             try {
-                code = render_job(session, frame.job, plan.parsed.scene, frame.path, label(frame), root);
+                code = render_frame(session, frame.job, frame.path, root);
             } catch (...) {
                 error = std::current_exception();
             }
             std::optional<RankFailure> mine = failure_here(error, cluster, &frame);
             if (!mine && code != exit_ok) mine = RankFailure{cluster.rank(), code, "interrupted"};
-            // An interruption was said by render_job, which rank 0 runs to the end too.
+            if (const std::optional<RankFailure> failure = cluster.agree(mine)) {
+                if (root && failure->exit_code == exit_interrupted && !frame.job.options.silent)
+                    std::fprintf(stderr, "caustica: interrupted; %s not written\n", frame.path.c_str());
+                return report(*failure, cluster, true);
+            }
+            mine.reset();
+            if (root) {
+                try {
+                    code = write_frame(frame.job, plan.parsed.scene, frame.path, label(frame), session.image(),
+                                       session.stats());
+                } catch (...) {
+                    mine = failure_here(std::current_exception(), cluster, nullptr);
+                }
+                if (!mine && code != exit_ok) mine = RankFailure{0, code, "interrupted"};
+            }
             if (const std::optional<RankFailure> failure = cluster.agree(mine)) return report(*failure, cluster, true);
         }
         return exit_ok;
@@ -583,6 +600,29 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
     if (!mine && early == exit_interrupted) mine = RankFailure{cluster->rank(), exit_interrupted, "interrupted"};
     if (const std::optional<RankFailure> failure = cluster->agree(mine)) return report(*failure, *cluster);
     if (early >= 0) return early;
+    // Every rank must render the same jobs: the same binary on the same files with the same
+    // options. A rank that loaded something else (a node with other files) says so.
+    std::uint64_t fingerprint = plan.plan.frames.size();
+    std::map<int, std::uint64_t> by_job;
+    for (const AnimationFrame& frame : plan.plan.frames) {
+        auto [it, fresh] = by_job.try_emplace(frame.job_index, 0);
+        if (fresh) it->second = job_content_fingerprint(frame.job);
+        fingerprint = hash_combine(fingerprint, it->second);
+        const CameraDesc& c = frame.job.camera;
+        for (double v : {c.eye.x, c.eye.y, c.eye.z, c.view.x, c.view.y, c.view.z, c.up.x, c.up.y, c.up.z, c.fovy_degrees})
+            fingerprint = hash_double(fingerprint, v);
+    }
+    Cluster::Bytes first_fingerprint(sizeof fingerprint);
+    std::memcpy(first_fingerprint.data(), &fingerprint, sizeof fingerprint);
+    cluster->broadcast(first_fingerprint, 0);
+    std::uint64_t rank0_fingerprint = 0;
+    std::memcpy(&rank0_fingerprint, first_fingerprint.data(), sizeof rank0_fingerprint);
+    mine.reset();
+    if (rank0_fingerprint != fingerprint)
+        mine = RankFailure{cluster->rank(), exit_usage,
+                           plan.parsed.scene + ": this rank's scene, options or files differ from rank 0's (every rank "
+                           "must run the same caustica on the same files with the same options)"};
+    if (const std::optional<RankFailure> failure = cluster->agree(mine)) return report(*failure, *cluster);
     // The ranks share their random streams: without --reproducible rank 0 draws the seed (the
     // images' options then record it: the render can be repeated).
     Cluster::Bytes seed(sizeof(std::uint64_t));

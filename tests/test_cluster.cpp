@@ -1,9 +1,10 @@
 // Rendering one frame on several ranks (issue 13), with threads standing in for the ranks
 // (make_local_cluster: the protocol the MPI ranks follow, in one process, so that it runs under
-// the sanitizers too). The image of K ranks is one process's, bit for bit, for both integrators;
+// the sanitizers too; built into session_tests, which CI also runs under ThreadSanitizer). The image of K ranks is one process's, bit for bit, for both integrators;
 // a failure or an interruption on one rank stops every rank with that rank's message. The same
 // with real processes under mpirun: test_mpi.cpp.
-#include "core/lua/scene_loader.h"
+#include "test_support.h"
+
 #include "core/photons/classic_photons.h"
 #include "core/render/cluster.h"
 #include "core/render/render_session.h"
@@ -22,9 +23,32 @@ using namespace caustica;
 
 namespace {
 
+/// A glass ball and a mirror post on a floor before a wall, one light with quadratic falloff
+/// (caustic photons through the glass and off the mirror), built in C++: these tests also run
+/// under ThreadSanitizer, without the script loader.
 RenderJob caustic_box(IntegratorKind integrator) {
-    static const SceneScript script = load_scene_script(CAUSTICA_SOURCE_DIR "/tests/ui/scenes/caustic_box.lua");
-    RenderJob job = script.renders.at(0);
+    caustica::testing::JobBuilder b(64, 48);
+    const int white = b.material({0.7, 0.7, 0.7});
+    const int blue = b.material({0.25, 0.35, 0.7});
+    const int glass = b.material({0, 0, 0}, glm::dvec3(0.9), 60);
+    b.scene->materials[static_cast<std::size_t>(glass)].refractive_index = 1.5;
+    const int mirror = b.material({0, 0, 0}, glm::dvec3(0.85), 60, true);
+    const int floor = b.add(NodeKind::cube, white);
+    b.translate(floor, {-3, -1.1, -3});
+    b.scale(floor, {6, 0.05, 6});
+    const int wall = b.add(NodeKind::cube, blue);
+    b.translate(wall, {-3, -1.1, -2.5});
+    b.scale(wall, {6, 3.2, 0.05});
+    const int ball = b.add(NodeKind::sphere, glass);
+    b.translate(ball, {-0.6, -0.45, 0});
+    b.scale(ball, glm::dvec3(0.55));
+    const int post = b.add(NodeKind::cylinder, mirror);
+    b.translate(post, {0.8, -0.6, -0.4});
+    b.scale(post, {0.3, 0.4, 0.3});
+    b.light({0.3, 2.2, 0.8}, {4.0, 4.0, 3.8}, {0.3, 0.0, 0.45});
+    b.camera({0, 1.6, 4.6}, {0, -0.4, -1}, 45);
+    b.job.ambient = {0.2, 0.2, 0.2};
+    RenderJob job = b.build();
     job.options.integrator = integrator;
     job.options.resolution_override = 40;
     job.options.caustic_num_photons = 20'000;
@@ -105,6 +129,7 @@ TEST(Cluster, ProgressiveImageOnTwoAndThreeRanksIsOneProcesssBitForBit) {
     RenderStats alone_stats;
     const Image alone = render_alone(job, &alone_stats);
     ASSERT_GT(mean_value(alone), 0.01);  // a real image, not black
+    ASSERT_GT(alone_stats.accumulation.photons_emitted, 0);  // with caustics
     EXPECT_EQ(alone_stats.accumulation.passes, 5);
     for (int ranks : {2, 3}) {
         const std::vector<RankOutcome> out = render_on_ranks(std::vector<RenderJob>(static_cast<std::size_t>(ranks), job));
@@ -118,6 +143,30 @@ TEST(Cluster, ProgressiveImageOnTwoAndThreeRanksIsOneProcesssBitForBit) {
         EXPECT_EQ(out[0].stats.accumulation.error, alone_stats.accumulation.error);
         // Every rank's samples counted once: the r_1 pass of the ranks that do not own pass 0 adds none.
         EXPECT_EQ(out[0].stats.rays.samples, alone_stats.rays.samples);
+    }
+}
+
+TEST(Cluster, ProgressiveStopRulesDecideAlikeOnEveryRank) {
+    // --target-error and --time with ranks: the estimate from every rank's sums, the slowest
+    // rank's clock; every rank stops after the same pass.
+    for (bool by_error : {true, false}) {
+        RenderJob job = caustic_box(IntegratorKind::progressive);
+        job.options.passes = 0;
+        if (by_error)
+            job.options.target_error = 0.25;
+        else
+            job.options.time_limit = 0.3;  // under ThreadSanitizer perhaps a single round: no pass count asserted
+        const std::vector<RankOutcome> out = render_on_ranks({job, job, job});
+        for (const RankOutcome& o : out) {
+            ASSERT_TRUE(o.completed) << (o.failure ? o.failure->message : o.other_error);
+            EXPECT_EQ(o.stats.accumulation.passes, out[0].stats.accumulation.passes);
+            EXPECT_EQ(o.stats.accumulation.stopped_by, by_error ? "target error" : "time");
+        }
+        if (by_error) {
+            EXPECT_GE(out[0].stats.accumulation.passes, 4);  // the rule waits for 4 passes
+            EXPECT_GE(out[0].stats.accumulation.error, 0.0);
+            EXPECT_LE(out[0].stats.accumulation.error, 0.25);
+        }
     }
 }
 
@@ -242,8 +291,11 @@ TEST(Cluster, SharedWorkIsDoneOnceAndAFailureMidwayStopsEveryRank) {
                 EXPECT_EQ(f->message, "scene.lua:7: gr.render: broken on rank " + std::to_string(f->rank));
             }
         }
-        if (!fail) EXPECT_EQ(once, items);
-        if (fail) EXPECT_EQ(collected[100], 0);  // the failed batch is not collected
+        if (fail) {
+            EXPECT_EQ(collected[100], 0);  // the failed batch is not collected
+        } else {
+            EXPECT_EQ(once, items);
+        }
     }
 }
 
@@ -269,4 +321,46 @@ TEST(Cluster, InterruptingOneRankInterruptsEveryRank) {
         }
         EXPECT_LT(seconds, 30.0);
     }
+}
+
+TEST(Cluster, AccumulatorSumsAreExactWhateverTheOrderAndSplit) {
+    // The property the ranks rest on: the sums of passes added in any order, or split between
+    // two accumulators and added up, are the same bits; a pixel that never changes has no noise.
+    const int w = 4, h = 1, passes = 37;
+    auto sample = [](int pixel, int pass) {
+        PassSample s;
+        const float x = 1e-7f + 0.37f * static_cast<float>((pixel * 7919 + pass * 104729) % 1000) / 997.0f;
+        s.colour = pixel == 0 ? glm::vec3(0.0003f) : glm::vec3(x, 2.5f * x, 1e4f * x);  // pixel 0: constant, dim
+        s.photon = pixel == 0 ? 0.2 : static_cast<double>(x);
+        s.photon_inner = pixel == 0 ? 0.2 : 0.9 * static_cast<double>(x);
+        return s;
+    };
+    ProgressiveAccumulator forward, backward, even, odd;
+    for (ProgressiveAccumulator* a : {&forward, &backward, &even, &odd}) a->reset(w, h);
+    for (int p = 0; p < passes; ++p)
+        for (int i = 0; i < w; ++i) {
+            forward.add(static_cast<std::size_t>(i), sample(i, p));
+            backward.add(static_cast<std::size_t>(i), sample(i, passes - 1 - p));
+            (p % 2 ? odd : even).add(static_cast<std::size_t>(i), sample(i, p));
+        }
+    std::vector<std::int64_t> merged = even.sums();
+    for (std::size_t k = 0; k < merged.size(); ++k) merged[k] += odd.sums()[k];
+    EXPECT_EQ(forward.sums(), backward.sums());
+    EXPECT_EQ(forward.sums(), merged);
+    for (int i = 0; i < w; ++i) {
+        const glm::vec3 a = forward.mean(static_cast<std::size_t>(i)), b = backward.mean(static_cast<std::size_t>(i));
+        EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0);
+        EXPECT_EQ(forward.samples(static_cast<std::size_t>(i)), static_cast<std::uint32_t>(passes));
+    }
+    // The mean is the float samples' mean to within the 2^-40 rounding of each sample.
+    double sum = 0.0;
+    for (int p = 0; p < passes; ++p) sum += sample(1, p).colour.z;
+    EXPECT_NEAR(forward.mean(1).z, sum / passes, 1e-6 * sum / passes);
+    // Only the constant pixel in the region: its estimated noise is exactly 0.
+    ProgressiveAccumulator constant;
+    constant.reset(1, 1);
+    for (int p = 0; p < passes; ++p) constant.add(0, sample(0, p));
+    const ErrorEstimate e = constant.estimate_error();
+    ASSERT_TRUE(e.known);
+    EXPECT_EQ(e.noise, 0.0);
 }

@@ -102,16 +102,23 @@ TEST_F(Mpi, MoreFramesThanRanksAreSharedAsWholeFrames) {
 }
 
 TEST_F(Mpi, AnErrorOnOneRankStopsEveryRankWithThatRanksMessage) {
-    // Rank 1 alone is given a photon count no machine holds: mpirun's MPMD form, one program per
-    // rank. Rank 0 says what rank 1 found, every rank exits 2, nothing is written.
+    // mpirun's MPMD form gives rank 1 its own command line. Rank 0 says what rank 1 found, every
+    // rank exits 2, nothing is written. First an error of rank 1 alone (its output name), then a
+    // rank that loaded another job than rank 0 (its photon count): caught before any rendering.
+    const std::string root = ::geteuid() == 0 ? " --allow-run-as-root" : "";
     const std::string good = "'" + binary + "' render '" + box + "' --minres -o out.png";
-    std::string command = "cd '" + dir_.string() + "' && '" + mpirun + "'" + (::geteuid() == 0 ? " --allow-run-as-root" : "") +
-                          " -n 1 " + good + " : -n 1 " + good + " --caustic-num-photons 99000000000";
-    const CommandResult r = run_shell(command);
-    EXPECT_EQ(r.code, 2) << r.output;
-    EXPECT_NE(r.output.find("caustica: rank 1 of 2: "), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("caustic-num-photons"), std::string::npos) << r.output;
-    EXPECT_FALSE(exists("out.png"));
+    for (const std::string& rank1 : {"'" + binary + "' render '" + box + "' --minres -o out.txt",
+                                     good + " --caustic-num-photons 123456"}) {
+        const CommandResult r =
+            run_shell("cd '" + dir_.string() + "' && '" + mpirun + "'" + root + " -n 1 " + good + " : -n 1 " + rank1);
+        EXPECT_EQ(r.code, 2) << r.output;
+        EXPECT_NE(r.output.find("caustica: rank 1 of 2: "), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(rank1.find("out.txt") != std::string::npos ? "-o out.txt: the output must end in"
+                                                                            : "differ from rank 0's"),
+                  std::string::npos)
+            << r.output;
+        EXPECT_FALSE(exists("out.png"));
+    }
 }
 
 TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
@@ -119,11 +126,18 @@ TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
     // terminal, and passes it on. Every process ends within seconds, nothing is written.
     const std::string log = (dir_ / "log.txt").string();
     const std::string command = "cd '" + dir_.string() + "' && exec " + launcher(2) + " '" + binary + "' render '" +
-                                box + "' --lores --integrator progressive --passes 1000 -o never.pfm > '" + log + "' 2>&1";
+                                box + "' -v --lores --integrator progressive --passes 1000 -o never.pfm > '" + log + "' 2>&1";
     const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
     pid_t pid = 0;
     ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ), 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    // Wait until rank 0 renders (its -v line), then a little: the signal arrives mid-render.
+    for (int i = 0; i < 600; ++i) {
+        std::ifstream in(log);
+        const std::string text{std::istreambuf_iterator<char>(in), {}};
+        if (text.find("rendering never.pfm") != std::string::npos) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
     ::kill(pid, SIGINT);
     int status = 0;
     const auto t0 = std::chrono::steady_clock::now();

@@ -160,6 +160,7 @@ public:
 
 private:
     void put_bytes(const void* p, std::size_t n) {
+        if (n == 0) return;
         const auto* b = static_cast<const std::uint8_t*>(p);
         bytes.insert(bytes.end(), b, b + n);
     }
@@ -186,6 +187,7 @@ public:
 private:
     void get_bytes(void* p, std::size_t n) {
         if (n > bytes_.size() - at_) throw std::runtime_error("photon share: truncated message");
+        if (n == 0) return;  // an empty vector's data() may be null
         std::memcpy(p, bytes_.data() + at_, n);
         at_ += n;
     }
@@ -288,6 +290,8 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
         std::exception_ptr error;
         try {
             pass = shoot_classic_photons(scene, textures, lights, settings, cancel);
+        } catch (const InputError& e) {
+            error = std::make_exception_ptr(job.located_option_error(e));  // as one process says it
         } catch (...) {
             error = std::current_exception();
         }

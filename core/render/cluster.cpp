@@ -3,6 +3,8 @@
 #include "core/scene/source_location.h"
 
 #include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
 #include <mutex>
 #include <new>
 
@@ -125,7 +127,11 @@ public:
         if (rank_ == 0)
             for (int r = 1; r < shared_->size; ++r) {
                 const std::vector<std::int64_t>& other = *shared_->sums[static_cast<std::size_t>(r)];
-                for (std::size_t i = 0; i < values.size() && i < other.size(); ++i) values[i] += other[i];
+                if (other.size() != values.size()) {  // a bug of the caller, undefined with MPI
+                    std::fprintf(stderr, "reduce_sum: rank %d has %zu values, rank 0 %zu\n", r, other.size(), values.size());
+                    std::abort();
+                }
+                for (std::size_t i = 0; i < values.size(); ++i) values[i] += other[i];
             }
         shared_->barrier();
     }

@@ -12,10 +12,11 @@ double channel_mean(const glm::vec3& c) { return (static_cast<double>(c.x) + c.y
 /// 99th percentile of the non-zero ones: the rule bench/trade applies to its references.
 constexpr double region_fraction = 0.1;
 
-/// Fixed-point units: colour in 2^-8 and 2^-40, statistics in 2^-24.
-constexpr double colour_high_unit = 256.0, colour_low_unit = 4294967296.0, stat_unit = 16777216.0;
-/// Largest colour a sample adds (2^31: 2^24 passes fit in an int64), largest statistic.
-constexpr double colour_limit = 2147483648.0, stat_limit = 65536.0, square_root_limit = 256.0;
+/// Fixed-point units: colour in 2^-8 and 2^-40, statistics in 2^-16.
+constexpr double colour_high_unit = 256.0, colour_low_unit = 4294967296.0, stat_unit = 65536.0;
+/// Largest colour a sample adds (2^31: 2^23 passes fit in an int64); largest statistic (its units
+/// then fit 32 bits, their square 64).
+constexpr double colour_limit = 2147483648.0, stat_limit = 65536.0 - 1.0 / 65536.0;
 
 /// x clamped to [lo, hi] (NaN to 0: a bug the debug build's pixel check reports before this).
 double clamp_value(double x, double lo, double hi) {
@@ -23,7 +24,25 @@ double clamp_value(double x, double lo, double hi) {
     return x < lo ? lo : (x > hi ? hi : x);
 }
 
-std::int64_t to_stat(double x) { return std::llround(x * stat_unit); }
+/// x in units of 2^-16, |x| < 2^16.
+std::int64_t to_stat(double x) { return std::llround(clamp_value(x, -stat_limit, stat_limit) * stat_unit); }
+
+/// Adds q and q^2 (exactly, in two parts) to three sums.
+void add_with_square(std::int64_t* sum, std::int64_t* square_high, std::int64_t* square_low, std::int64_t q) {
+    const std::uint64_t magnitude = static_cast<std::uint64_t>(q < 0 ? -q : q);
+    const std::uint64_t square = magnitude * magnitude;  // < 2^64
+    *sum += q;
+    *square_high += static_cast<std::int64_t>(square >> 32);
+    *square_low += static_cast<std::int64_t>(square & 0xffffffffULL);
+}
+
+/// n^2 (n - 1) times the variance of the mean of n samples, from their sums, in units^2: exact.
+double variance_of_mean(double n, std::int64_t sum, std::int64_t square_high, std::int64_t square_low) {
+    const __int128 squares = (static_cast<__int128>(square_high) << 32) + square_low;
+    const __int128 spread = static_cast<__int128>(static_cast<std::int64_t>(n)) * squares -
+                            static_cast<__int128>(sum) * static_cast<__int128>(sum);
+    return static_cast<double>(spread) / (n * n * (n - 1.0)) / (stat_unit * stat_unit);
+}
 
 }  // namespace
 
@@ -45,15 +64,10 @@ glm::vec3 ProgressiveAccumulator::add(std::size_t index, const PassSample& sampl
         s[colour_high + c] += static_cast<std::int64_t>(high);
         s[colour_low + c] += std::llround((scaled - high) * colour_low_unit);
     }
-    const double v = clamp_value(channel_mean(sample.colour), 0.0, square_root_limit);
-    s[value] += to_stat(v);
-    s[value2] += to_stat(v * v);
-    s[photon] += to_stat(clamp_value(sample.photon, 0.0, stat_limit));
+    add_with_square(&s[value], &s[value2_high], &s[value2_low], to_stat(channel_mean(sample.colour)));
+    s[photon] += to_stat(std::max(0.0, sample.photon));
     // E[L_r] - E[L_{r/sqrt 2}] = (r^2/8 - r^2/16) Laplacian: twice it is the bias at r.
-    const double probe = 2.0 * (sample.photon - sample.photon_inner);
-    s[bias] += to_stat(clamp_value(probe, -stat_limit, stat_limit));
-    const double b = clamp_value(probe, -square_root_limit, square_root_limit);
-    s[bias2] += to_stat(b * b);
+    add_with_square(&s[bias], &s[bias2_high], &s[bias2_low], to_stat(2.0 * (sample.photon - sample.photon_inner)));
     s[count_slot] += 1;
     return mean(index);
 }
@@ -99,12 +113,12 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
         const double photon_mean = at(i, photon) / n;
         if (!(photon_mean >= threshold)) continue;
         ++region;
-        const double value_sum = at(i, value) / stat_unit, value = value_sum / n;
-        // Variance of the mean of n passes, from the sums (never below 0: rounding).
-        const double noise_var = std::max(0.0, at(i, value2) / stat_unit - value_sum * value) / (n - 1.0) / n;
-        const double bias_sum = at(i, bias), bias_mean = bias_sum / stat_unit / n;
-        const double bias_noise_var =
-            std::max(0.0, at(i, bias2) / stat_unit - bias_sum / stat_unit * bias_mean) / (n - 1.0) / n;
+        const std::int64_t* sum = &sums_[i * sums_per_pixel];
+        const double value = at(i, Slot::value) / stat_unit / n;
+        // Variances of the means of n passes, exact from the integer sums.
+        const double noise_var = variance_of_mean(n, sum[Slot::value], sum[value2_high], sum[value2_low]);
+        const double bias_mean = at(i, bias) / stat_unit / n;
+        const double bias_noise_var = variance_of_mean(n, sum[bias], sum[bias2_high], sum[bias2_low]);
         shown += std::clamp(value, 0.0, 1.0);
         // A pixel surely above 1 shows white, as its converged value most likely does (a bright
         // caustic's blur lowers its peaks): it counts no error.

@@ -37,15 +37,20 @@ inline double next_radius2(double radius2, int pass, double alpha) {
     return radius2 * (static_cast<double>(pass) + alpha) / (static_cast<double>(pass) + 1.0);
 }
 
+/// The most passes one accumulation adds (its integer sums cannot overflow below it).
+inline constexpr int max_accumulated_passes = 1 << 23;
+
 /// The per-pixel sums of a progressive accumulation, in integers: each pass's sample is rounded
 /// to fixed point once and added exactly, so the sums do not depend on the order the passes are
 /// added in. Ranks that ran different passes add their sums (Cluster::reduce_sum) and get the
-/// bits one process gets (issue 13). Colour is held to 2^-40 (two int64 per channel, up to
-/// 2^31 per sample and 2^24 passes); the error statistics to 2^-24. 100 bytes per pixel.
+/// bits one process gets (issue 13). Colour is held to 2^-40 (two int64 per channel, up to 2^31
+/// per sample); the error statistics to 2^-16 with exact squares (two int64 each), so a pixel
+/// that does not change between passes has a variance of exactly 0. Up to max_accumulated_passes
+/// passes. 116 bytes per pixel.
 class ProgressiveAccumulator {
 public:
     /// int64 sums per pixel (see sums()).
-    static constexpr std::size_t sums_per_pixel = 12;
+    static constexpr std::size_t sums_per_pixel = 14;
 
     /// Empties the sums for an image of this size.
     void reset(int width, int height);
@@ -86,10 +91,14 @@ public:
     const std::vector<std::int64_t>& sums() const { return sums_; }
 
 private:
-    // Per pixel: colour in two parts (units of 2^-8 and the remainder in units of 2^-40), then in
-    // units of 2^-24 the sample value v (mean of the channels, clamped to [0, 256]) and v^2, the
-    // photon probe, the bias probe and its square, then the sample count.
-    enum Slot : std::size_t { colour_high = 0, colour_low = 3, value = 6, value2, photon, bias, bias2, count_slot };
+    // Per pixel: colour in two parts (units of 2^-8, and the remainder in units of 2^-40); in
+    // units of 2^-16 (q = x 2^16, |x| < 2^16) the sample value v (mean of the channels) and its
+    // square q^2 in two parts (q^2 >> 32, q^2 & (2^32 - 1)), the photon probe, the bias probe and
+    // its square likewise; the sample count.
+    enum Slot : std::size_t {
+        colour_high = 0, colour_low = 3, value = 6, value2_high, value2_low, photon, bias, bias2_high, bias2_low,
+        count_slot
+    };
     bool counts_empty() const { return sums_.empty(); }
     int width_ = 0, height_ = 0;
     std::vector<std::int64_t> sums_;

@@ -76,6 +76,38 @@ std::uint64_t geometry_fingerprint(const RenderJob& job) {
     return h;
 }
 
+std::uint64_t job_content_fingerprint(const RenderJob& job) {
+    // The geometry's own fingerprint names meshes by address: hash their contents instead.
+    RenderJob without_meshes = job;
+    auto scene = std::make_shared<SceneDesc>(*job.scene);
+    std::uint64_t h = 0x636f6e74656e74ULL;
+    for (const auto& mesh : scene->meshes) {
+        if (!mesh) continue;
+        h = hash_combine(h, mesh->positions.size() * 31 + mesh->triangles.size());
+        for (const glm::vec3& p : mesh->positions) h = hash_double(hash_double(hash_double(h, p.x), p.y), p.z);
+        for (const glm::uvec3& t : mesh->triangles) h = hash_combine(h, (std::uint64_t(t.x) << 42) ^ (std::uint64_t(t.y) << 21) ^ t.z);
+        for (const glm::vec2& uv : mesh->texcoords) h = hash_double(hash_double(h, uv.x), uv.y);
+    }
+    scene->meshes.clear();
+    without_meshes.scene = scene;
+    h = hash_combine(h, geometry_fingerprint(without_meshes));
+    Options o = job.options;  // what does not change the image
+    o.threads = 0;
+    o.silent = o.verbose = o.timing = o.stats = false;
+    o.script_timeout = Options{}.script_timeout;
+    o.script_memory_mib = Options{}.script_memory_mib;
+    h = hash_combine(h, std::hash<std::string>{}(describe_non_default(o)));
+    h = hash_vec(hash_vec(hash_vec(h, job.camera.eye), job.camera.view), job.camera.up);
+    h = hash_double(h, job.camera.fovy_degrees);
+    h = hash_combine(hash_combine(h, static_cast<std::uint64_t>(job.width)), static_cast<std::uint64_t>(job.height));
+    h = hash_vec(hash_vec(h, job.ambient), job.miss_colour);
+    for (int l : job.lights) {
+        const LightDesc& light = job.scene->lights.at(static_cast<std::size_t>(l));
+        h = hash_double(hash_vec(hash_vec(hash_vec(h, light.position), light.colour), light.falloff), light.radius);
+    }
+    return h;
+}
+
 RenderSession::RenderSession() = default;
 
 RenderSession::~RenderSession() {
@@ -275,21 +307,6 @@ void RenderSession::start() {
     worker_ = std::thread([this] { run(); });
 }
 
-namespace {
-
-/// An error about an option's value ("--caustic-num-photons 1e11: ...") set by gr.option names
-/// the line of that call.
-InputError located_option_error(const RenderJob& job, const InputError& error) {
-    const std::string message = error.what();
-    if (message.rfind("--", 0) != 0) return error;
-    const std::size_t end = message.find_first_of(" =:", 2);
-    const SourceLocation* origin = job.option_origin(message.substr(2, end == std::string::npos ? end : end - 2));
-    if (!origin) return error;
-    return InputError(*origin, "gr.option: " + message);
-}
-
-}  // namespace
-
 void RenderSession::run() {
     try {
         const int threads = job_.options.threads > 0 ? job_.options.threads : tbb::info::default_concurrency();
@@ -323,7 +340,7 @@ void RenderSession::run() {
         else
             error_ = std::current_exception();
     } catch (const InputError& e) {
-        error_ = std::make_exception_ptr(located_option_error(job_, e));
+        error_ = std::make_exception_ptr(job_.located_option_error(e));
     } catch (...) {
         error_ = std::current_exception();
     }
@@ -351,7 +368,7 @@ void RenderSession::run_distributed(tbb::task_arena& arena, int threads) {
         } catch (const ClusterError&) {
             throw;
         } catch (const InputError& e) {
-            error = std::make_exception_ptr(located_option_error(job_, e));
+            error = std::make_exception_ptr(job_.located_option_error(e));
         } catch (...) {
             error = std::current_exception();
         }
@@ -630,14 +647,22 @@ void RenderSession::render_distributed_classic(PassRunner& runner, TileContext& 
     });
     if (!antialias) return;
     // The anti-aliasing pass reads the whole first pass (and corner_grid's flags): rank 0 has it.
-    cluster_->checkpoint(interruption());
-    Cluster::Bytes first;
+    // (Every buffer is made before the checkpoint: nothing may fail between it and the broadcast.)
     const std::size_t pixels = static_cast<std::size_t>(width) * height;
-    if (cluster_->rank() == 0) {
-        first.resize(pixels * sizeof(glm::vec3) + pixels);
-        std::memcpy(first.data(), image_.pixels.data(), pixels * sizeof(glm::vec3));
-        std::memcpy(first.data() + pixels * sizeof(glm::vec3), refine_.data(), pixels);
+    Cluster::Bytes first;
+    std::exception_ptr error;
+    try {
+        first.reserve(pixels * sizeof(glm::vec3) + pixels);
+        if (cluster_->rank() == 0) {
+            first.resize(pixels * sizeof(glm::vec3) + pixels);
+            std::memcpy(first.data(), image_.pixels.data(), pixels * sizeof(glm::vec3));
+            std::memcpy(first.data() + pixels * sizeof(glm::vec3), refine_.data(), pixels);
+        }
+    } catch (...) {
+        error = std::current_exception();
     }
+    cluster_->checkpoint(interruption());
+    cluster_->checkpoint(error);
     cluster_->broadcast(first, 0);
     if (first.size() != pixels * sizeof(glm::vec3) + pixels)
         throw std::runtime_error("the first pass from rank 0 has the wrong size");
@@ -653,10 +678,17 @@ void RenderSession::render_distributed_classic(PassRunner& runner, TileContext& 
 
 ErrorEstimate RenderSession::combined_error() {
     // Every rank's sums added on rank 0 (a copy: the accumulation goes on), its estimate sent back.
-    cluster_->checkpoint(interruption());
+    // The copy is made before the checkpoint: nothing may fail between it and the reduction.
     ProgressiveAccumulator all;
-    all.reset(accumulator_.width(), accumulator_.height());
-    all.sums() = accumulator_.sums();
+    std::exception_ptr error;
+    try {
+        all.reset(accumulator_.width(), accumulator_.height());
+        all.sums() = accumulator_.sums();
+    } catch (...) {
+        error = std::current_exception();
+    }
+    cluster_->checkpoint(interruption());
+    cluster_->checkpoint(error);
     cluster_->reduce_sum(all.sums());
     ErrorEstimate e;
     if (cluster_->rank() == 0) e = all.estimate_error();
@@ -763,7 +795,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
             stopped_by = "cancelled";
             break;
         }
-        if (limit > 0 && base >= limit) break;
+        if ((limit > 0 && base >= limit) || base >= max_accumulated_passes) break;  // the sums' capacity
         if (options.target_error > 0.0 && acc.error.known && base >= 4 && acc.error.relative <= options.target_error) {
             stopped_by = "target error";
             break;
@@ -834,13 +866,12 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         if (!shared) {
             acc.error = accumulator_.estimate_error();
         } else if (options.target_error > 0.0 && round >= next_error_check) {
-            // Adding every rank's sums costs time: often enough that the reduction stays under a
-            // tenth of the rounds' time, the same decision on every rank.
-            const double t_check = now_seconds();
+            // Adding every rank's sums costs time (116 bytes a pixel through the network): every
+            // round up to 256 K pixels, every 4th at a megapixel, every 32nd at 4K, at most every
+            // 64th. Fixed by the image size, so that --reproducible stops after the same pass.
             acc.error = combined_error();
-            const double check_seconds = cluster_->all_max(now_seconds() - t_check);
-            const double rounds = std::ceil(check_seconds / std::max(0.1 * round_seconds, 1e-9));
-            next_error_check = round + static_cast<int>(std::clamp(rounds, 1.0, 64.0));
+            const std::size_t pixels = static_cast<std::size_t>(job_.width) * static_cast<std::size_t>(job_.height);
+            next_error_check = round + static_cast<int>(std::clamp<std::size_t>(pixels >> 18, 1, 64));
         }
         if (cancel_requested_ && !shared) {
             stopped_by = "cancelled";

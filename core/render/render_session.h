@@ -262,6 +262,12 @@ private:
     double start_time_ = 0.0;
 };
 
+/// Fingerprint of what a job renders, by content (mesh vertices, not where they are in memory;
+/// the options that change the image, not -j, -s, --silent or the script's limits): the same in
+/// every process that loaded the same scene with the same options. Ranks compare it before they
+/// render together.
+std::uint64_t job_content_fingerprint(const RenderJob& job);
+
 /// Fingerprint of everything the BVH and materials depend on (not the camera, lights or options
 /// other than the convention).
 std::uint64_t geometry_fingerprint(const RenderJob& job);

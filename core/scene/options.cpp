@@ -187,8 +187,8 @@ const std::vector<OptionSpec>& option_table() {
              &Options::reproducible),
         integer("passes", 0, "sampling",
                 "progressive: passes of fresh photons and jittered pixel samples, averaged while the gather "
-                "radius shrinks (1 = one k-nearest pass; 0 = until --time or --target-error)",
-                &Options::passes, 0, 100'000'000),
+                "radius shrinks (1 = one k-nearest pass; 0 = until --time or --target-error; at most 2^23)",
+                &Options::passes, 0, 8'388'608),
         real("time", "sampling", "progressive: start no pass that would end past this many seconds (0 = no limit)",
              &Options::time_limit, 0.0, 1e7),
         real("target-error", "sampling",

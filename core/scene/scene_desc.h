@@ -134,6 +134,17 @@ struct RenderJob {
         return nullptr;
     }
 
+    /// An error about an option's value ("--caustic-num-photons 1e11: ...") that a gr.option call
+    /// set, named with that call's line; other errors as they are.
+    InputError located_option_error(const InputError& error) const {
+        const std::string message = error.what();
+        if (message.rfind("--", 0) != 0) return error;
+        const std::size_t end = message.find_first_of(" =:", 2);
+        const SourceLocation* origin = option_origin(message.substr(2, end == std::string::npos ? end : end - 2));
+        if (!origin) return error;
+        return InputError(*origin, "gr.option: " + message);
+    }
+
     /// Applies options given on the command line over the script's gr.option calls (the command
     /// line wins); an option it sets no longer has a script origin. `caustica render` and the
     /// preview compose their jobs through this one function, so the preview shows what render makes.
