@@ -260,6 +260,9 @@ private:
         int next = 0;
         std::vector<int> stops(static_cast<std::size_t>(size_), 0);
         int active = size_ - 1;
+        // Once a rank failed (or was interrupted) the pass is lost: no more batches for anyone,
+        // so that every rank reaches the agreement at once.
+        auto give_up = [&] { next = count; };
         auto reply = [&](int to) {
             if (next < count) {
                 const int range[2] = {next, std::min(count, next + batch)};
@@ -284,10 +287,14 @@ private:
             check(MPI_Recv(message.data(), length, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, work_, MPI_STATUS_IGNORE),
                   "MPI_Recv");
             constexpr std::size_t header = 2 * sizeof(std::int32_t) + 1;
-            if (status.MPI_TAG == tag_result && message.size() >= header && message[2 * sizeof(std::int32_t)] != 0) {
-                std::int32_t range[2];
-                std::memcpy(range, message.data(), sizeof range);
-                take(range[0], range[1], Bytes(message.begin() + header, message.end()));
+            if (status.MPI_TAG == tag_result && message.size() >= header) {
+                if (message[2 * sizeof(std::int32_t)] != 0) {
+                    std::int32_t range[2];
+                    std::memcpy(range, message.data(), sizeof range);
+                    take(range[0], range[1], Bytes(message.begin() + header, message.end()));
+                } else {
+                    give_up();
+                }
             }
             reply(status.MPI_SOURCE);
             return true;
@@ -298,7 +305,10 @@ private:
             if (next < count) {
                 const int first = next, last = std::min(count, next + batch);
                 next = last;
-                if (std::optional<Bytes> result = run(first, last)) take(first, last, *result);
+                if (std::optional<Bytes> result = run(first, last))
+                    take(first, last, *result);
+                else
+                    give_up();  // this rank failed or was interrupted
             } else if (active > 0) {
                 serve(true);
             } else {

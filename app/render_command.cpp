@@ -15,7 +15,9 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -23,6 +25,8 @@
 #include <optional>
 #include <random>
 #include <set>
+
+#include <tbb/info.h>
 #include <stdexcept>
 #include <thread>
 #include <unistd.h>
@@ -113,30 +117,42 @@ std::string job_size(const RenderJob& job) {
     return std::to_string(r ? r : job.width) + " x " + std::to_string(r ? r : job.height);
 }
 
-void print_stats(const RenderStats& stats, bool timing, bool statistics) {
+/// printf into a string.
+[[gnu::format(printf, 2, 3)]] void appendf(std::string& out, const char* format, ...) {
+    char line[512];
+    va_list args;
+    va_start(args, format);
+    const int n = std::vsnprintf(line, sizeof line, format, args);
+    va_end(args);
+    if (n > 0) out.append(line, static_cast<std::size_t>(std::min<int>(n, sizeof line - 1)));
+}
+
+/// What -t and -S print for a render (text, so that a rank can send it to rank 0).
+std::string stats_text(const RenderStats& stats, bool timing, bool statistics) {
+    std::string out;
     if (timing) {
-        std::fprintf(stderr, "stage times:\n");
+        appendf(out, "stage times:\n");
         for (const StageTime& s : stats.stages)
-            std::fprintf(stderr, "  %-22s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? "  (cached)" : "");
-        std::fprintf(stderr, "  %-22s %9.3f s\n", "total", stats.total_seconds);
+            appendf(out, "  %-22s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? "  (cached)" : "");
+        appendf(out, "  %-22s %9.3f s\n", "total", stats.total_seconds);
     }
     if (statistics) {
         const RayCounters& r = stats.rays;
         const double seconds = stats.total_seconds > 0 ? stats.total_seconds : 1e-9;
-        std::fprintf(stderr, "statistics:\n");
-        std::fprintf(stderr, "  integrator             %9s\n", stats.integrator.c_str());
-        std::fprintf(stderr, "  threads                %9d\n", stats.threads);
-        std::fprintf(stderr, "  analytic primitives    %9zu\n", stats.scene.analytic_primitives);
-        std::fprintf(stderr, "  mesh instances         %9zu (%zu meshes, %zu triangles stored, %zu in the world)\n",
+        appendf(out, "statistics:\n");
+        appendf(out, "  integrator             %9s\n", stats.integrator.c_str());
+        appendf(out, "  threads                %9d\n", stats.threads);
+        appendf(out, "  analytic primitives    %9zu\n", stats.scene.analytic_primitives);
+        appendf(out, "  mesh instances         %9zu (%zu meshes, %zu triangles stored, %zu in the world)\n",
                      stats.scene.mesh_instances, stats.scene.unique_meshes, stats.scene.triangles_stored, stats.scene.triangles_instanced);
-        std::fprintf(stderr, "  CSG objects            %9zu (%zu primitives inside)\n", stats.scene.csg_objects, stats.scene.csg_leaves);
-        std::fprintf(stderr, "  camera samples         %9llu\n", static_cast<unsigned long long>(r.samples));
-        std::fprintf(stderr, "  anti-aliased pixels    %9llu\n", static_cast<unsigned long long>(r.supersampled_pixels));
-        std::fprintf(stderr, "  rays: primary          %9llu\n", static_cast<unsigned long long>(r.primary));
-        std::fprintf(stderr, "        shadow           %9llu\n", static_cast<unsigned long long>(r.shadow));
-        std::fprintf(stderr, "        reflected        %9llu\n", static_cast<unsigned long long>(r.reflected));
-        std::fprintf(stderr, "        refracted        %9llu\n", static_cast<unsigned long long>(r.refracted));
-        std::fprintf(stderr, "        total            %9llu (%.2f M rays/s)\n",
+        appendf(out, "  CSG objects            %9zu (%zu primitives inside)\n", stats.scene.csg_objects, stats.scene.csg_leaves);
+        appendf(out, "  camera samples         %9llu\n", static_cast<unsigned long long>(r.samples));
+        appendf(out, "  anti-aliased pixels    %9llu\n", static_cast<unsigned long long>(r.supersampled_pixels));
+        appendf(out, "  rays: primary          %9llu\n", static_cast<unsigned long long>(r.primary));
+        appendf(out, "        shadow           %9llu\n", static_cast<unsigned long long>(r.shadow));
+        appendf(out, "        reflected        %9llu\n", static_cast<unsigned long long>(r.reflected));
+        appendf(out, "        refracted        %9llu\n", static_cast<unsigned long long>(r.refracted));
+        appendf(out, "        total            %9llu (%.2f M rays/s)\n",
                      static_cast<unsigned long long>(r.total_rays()), r.total_rays() / seconds * 1e-6);
         for (std::size_t l = 0; l < stats.caustic_lights.size(); ++l) {
             const LightCausticStats& c = stats.caustic_lights[l];
@@ -147,33 +163,38 @@ void print_stats(const RenderStats& stats, bool timing, bool statistics) {
                          100.0 * c.occupied_fraction);
         }
         if (stats.caustic_photons > 0)
-            std::fprintf(stderr, "  caustic map            %9zu photons, %.1f MiB\n", stats.caustic_photons,
+            appendf(out, "  caustic map            %9zu photons, %.1f MiB\n", stats.caustic_photons,
                          stats.caustic_map_bytes / 1048576.0);
         for (std::size_t l = 0; l < stats.gi_lights.size(); ++l)
-            std::fprintf(stderr, "  GI photons, light %zu: %lld directions, %lld traced, %lld stored\n", l + 1,
+            appendf(out, "  GI photons, light %zu: %lld directions, %lld traced, %lld stored\n", l + 1,
                          stats.gi_lights[l].candidates, stats.gi_lights[l].traced, stats.gi_lights[l].stored);
         if (stats.gi_photons > 0)
-            std::fprintf(stderr, "  GI map                 %9zu photons, %.1f MiB\n", stats.gi_photons,
+            appendf(out, "  GI map                 %9zu photons, %.1f MiB\n", stats.gi_photons,
                          stats.gi_map_bytes / 1048576.0);
         if (r.gathers > 0)
-            std::fprintf(stderr, "  radiance estimates     %9llu (%.3f s summed over threads, %.0f%% of render thread time)\n",
+            appendf(out, "  radiance estimates     %9llu (%.3f s summed over threads, %.0f%% of render thread time)\n",
                          static_cast<unsigned long long>(r.gathers), r.gather_seconds,
                          100.0 * r.gather_seconds / (seconds * std::max(1, stats.threads)));
         if (const RenderStats::Accumulation& a = stats.accumulation; a.passes > 0) {
-            std::fprintf(stderr, "  progressive passes     %9d (stopped by %s)\n", a.passes, a.stopped_by.c_str());
-            std::fprintf(stderr, "  photons over passes    %9lld directions\n", a.photons_emitted);
-            std::fprintf(stderr, "  gather radius          %9.4g first, %.4g now\n", a.first_radius, a.radius);
+            appendf(out, "  progressive passes     %9d (stopped by %s)\n", a.passes, a.stopped_by.c_str());
+            appendf(out, "  photons over passes    %9lld directions\n", a.photons_emitted);
+            appendf(out, "  gather radius          %9.4g first, %.4g now\n", a.first_radius, a.radius);
             if (a.error >= 0.0)
-                std::fprintf(stderr, "  estimated error        %9.4f relative RMSE over the caustics (noise %.4f, bias %.4f)\n",
+                appendf(out, "  estimated error        %9.4f relative RMSE over the caustics (noise %.4f, bias %.4f)\n",
                              a.error, a.noise, a.bias);
             else
-                std::fprintf(stderr, "  estimated error        %9s (needs 2 passes and a caustic)\n", "unknown");
-            std::fprintf(stderr, "  accumulation buffers   %9.1f MiB\n", a.bytes / 1048576.0);
+                appendf(out, "  estimated error        %9s (needs 2 passes and a caustic)\n", "unknown");
+            appendf(out, "  accumulation buffers   %9.1f MiB\n", a.bytes / 1048576.0);
         }
         if (!timing)  // -t has just printed them: once is enough
             for (const StageTime& s : stats.stages)
-                std::fprintf(stderr, "  time: %-16s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? " (cached)" : "");
+                appendf(out, "  time: %-16s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? " (cached)" : "");
     }
+    return out;
+}
+
+void print_stats(const RenderStats& stats, bool timing, bool statistics) {
+    std::fputs(stats_text(stats, timing, statistics).c_str(), stderr);
 }
 
 /// How the job's options write its image (--srgb, --tonemap, --exposure, --exr-pixel).
@@ -264,9 +285,10 @@ int render_frame(RenderSession& session, const RenderJob& job, const std::string
     return complete && !interrupted ? exit_ok : exit_interrupted;
 }
 
-/// Writes a rendered frame and reports it. Returns an exit code (write errors throw).
+/// Writes a rendered frame and reports it (-t/-S: `stats`, or the text another rank made of
+/// its own). Returns an exit code (write errors throw).
 int write_frame(const RenderJob& job, const std::string& scene_path, const std::string& path, const std::string& frame,
-                const Image& image, const RenderStats& stats) {
+                const Image& image, const RenderStats& stats, const std::string* stats_from_rank = nullptr) {
     const Options& o = job.options;
     try {
         write_image_atomic(path, image, write_settings(o), render_metadata(job, scene_path, stats, frame), &interrupted);
@@ -274,7 +296,10 @@ int write_frame(const RenderJob& job, const std::string& scene_path, const std::
         if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
         return exit_interrupted;
     }
-    print_stats(stats, o.timing, o.stats);
+    if (stats_from_rank)
+        std::fputs(stats_from_rank->c_str(), stderr);
+    else
+        print_stats(stats, o.timing, o.stats);
     if (!o.silent) std::printf("wrote %s (%d x %d, %.2f s)\n", path.c_str(), image.width, image.height, stats.total_seconds);
     return exit_ok;
 }
@@ -409,8 +434,9 @@ int report(const RankFailure& failure, const Cluster& cluster, bool said = false
     return failure.exit_code;
 }
 
-/// A rendered frame as bytes for rank 0, and back: the image and what its metadata reports.
-Cluster::Bytes frame_bytes(const Image& image, const RenderStats& stats) {
+/// A rendered frame as bytes for rank 0, and back: the image, what its metadata reports and
+/// what -t/-S print about it.
+Cluster::Bytes frame_bytes(const Image& image, const RenderStats& stats, const std::string& text) {
     Cluster::Bytes bytes;
     auto put = [&](const void* p, std::size_t n) {
         bytes.insert(bytes.end(), static_cast<const std::uint8_t*>(p), static_cast<const std::uint8_t*>(p) + n);
@@ -422,20 +448,22 @@ Cluster::Bytes frame_bytes(const Image& image, const RenderStats& stats) {
                                static_cast<double>(stats.threads)};
     put(numbers, sizeof numbers);
     put(image.pixels.data(), image.pixels.size() * sizeof(glm::vec3));
+    put(text.data(), text.size());
     return bytes;
 }
 
-void frame_of(const Cluster::Bytes& bytes, Image& image, RenderStats& stats) {
+void frame_of(const Cluster::Bytes& bytes, Image& image, RenderStats& stats, std::string& text) {
     std::int32_t size[2];
     double numbers[5];
     if (bytes.size() < sizeof size + sizeof numbers) throw std::runtime_error("a frame from another rank is truncated");
     std::memcpy(size, bytes.data(), sizeof size);
     std::memcpy(numbers, bytes.data() + sizeof size, sizeof numbers);
     const std::size_t pixels = static_cast<std::size_t>(std::max(0, size[0])) * static_cast<std::size_t>(std::max(0, size[1]));
-    if (bytes.size() != sizeof size + sizeof numbers + pixels * sizeof(glm::vec3))
-        throw std::runtime_error("a frame from another rank has the wrong size");
+    const std::size_t image_end = sizeof size + sizeof numbers + pixels * sizeof(glm::vec3);
+    if (bytes.size() < image_end) throw std::runtime_error("a frame from another rank has the wrong size");
     image = Image(size[0], size[1]);
     std::memcpy(image.pixels.data(), bytes.data() + sizeof size + sizeof numbers, pixels * sizeof(glm::vec3));
+    text.assign(bytes.begin() + static_cast<std::ptrdiff_t>(image_end), bytes.end());
     stats = RenderStats{};
     stats.total_seconds = numbers[0];
     stats.accumulation.passes = static_cast<int>(numbers[1]);
@@ -455,6 +483,9 @@ std::optional<RankFailure> failure_here(std::exception_ptr error, const Cluster&
     }
     return failure_of(error, cluster.rank());
 }
+
+/// -j as the frames have it (0: every core the process may use).
+int command_line_threads(const RenderPlan& plan) { return plan.plan.frames.front().job.options.threads; }
 
 /// Under mpirun: the frames rendered by every rank together (a frame at a time: fewer frames than
 /// ranks), or whole frames shared out in rounds of one per rank. Rank 0 writes every file.
@@ -508,7 +539,9 @@ int render_with_ranks(Cluster& cluster, RenderSession& session, const RenderPlan
             const AnimationFrame& frame = frames[mine_index];
             try {
                 code = render_frame(session, frame.job, frame.path, root);
-                if (code == exit_ok) result = frame_bytes(session.image(), session.stats());
+                const RenderStats stats = session.stats();
+                if (code == exit_ok)
+                    result = frame_bytes(session.image(), stats, stats_text(stats, frame.job.options.timing, frame.job.options.stats));
             } catch (...) {
                 error = std::current_exception();
             }
@@ -525,8 +558,9 @@ int render_with_ranks(Cluster& cluster, RenderSession& session, const RenderPlan
                     const AnimationFrame& frame = frames[round * static_cast<std::size_t>(ranks) + r];
                     Image image;
                     RenderStats stats;
-                    frame_of(results[r], image, stats);
-                    code = write_frame(frame.job, plan.parsed.scene, frame.path, label(frame), image, stats);
+                    std::string text;
+                    frame_of(results[r], image, stats, text);
+                    code = write_frame(frame.job, plan.parsed.scene, frame.path, label(frame), image, stats, &text);
                 }
             } catch (...) {
                 mine = failure_here(std::current_exception(), cluster, nullptr);
@@ -599,7 +633,13 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
     std::optional<RankFailure> mine = failure_here(error, *cluster, nullptr);
     if (!mine && early == exit_interrupted) mine = RankFailure{cluster->rank(), exit_interrupted, "interrupted"};
     if (const std::optional<RankFailure> failure = cluster->agree(mine)) return report(*failure, *cluster);
-    if (early >= 0) return early;
+    // --help ends every rank, which must all have been given it (mpirun's MPMD form may not).
+    const long long ending = cluster->all_sum(early >= 0 ? 1 : 0);
+    if (ending == cluster->size()) return early;
+    mine.reset();
+    if (ending > 0 && early >= 0)
+        mine = RankFailure{cluster->rank(), exit_usage, "this rank was given --help while the others render: give every rank the same arguments"};
+    if (const std::optional<RankFailure> failure = cluster->agree(mine)) return report(*failure, *cluster);
     // Every rank must render the same jobs: the same binary on the same files with the same
     // options. A rank that loaded something else (a node with other files) says so.
     std::uint64_t fingerprint = plan.plan.frames.size();
@@ -623,6 +663,19 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
                            plan.parsed.scene + ": this rank's scene, options or files differ from rank 0's (every rank "
                            "must run the same caustica on the same files with the same options)"};
     if (const std::optional<RankFailure> failure = cluster->agree(mine)) return report(*failure, *cluster);
+    // mpirun binds each rank to cores (to one core when it starts two or fewer): say so when a
+    // rank gets fewer cores than its share of this machine.
+    if (root && command_line_threads(plan) == 0 && !plan.plan.frames.front().job.options.silent) {
+        const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+        const int here = local ? std::max(1, std::atoi(local)) : 1;
+        const int usable = tbb::info::default_concurrency();
+        const unsigned machine = std::thread::hardware_concurrency();
+        if (machine > 0 && static_cast<unsigned>(usable * here) < machine)
+            std::fprintf(stderr,
+                         "warning: each rank renders on %d of this machine's %u cores (mpirun binds ranks to cores; "
+                         "with fewer ranks than cores add --bind-to none, or --map-by node:PE=N)\n",
+                         usable, machine);
+    }
     // The ranks share their random streams: without --reproducible rank 0 draws the seed (the
     // images' options then record it: the render can be repeated).
     Cluster::Bytes seed(sizeof(std::uint64_t));

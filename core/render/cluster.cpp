@@ -74,6 +74,7 @@ struct LocalShared {
     std::vector<double> doubles;
     // share_work
     std::atomic<int> next_item{0};
+    std::atomic<bool> work_failed{false};  // a rank failed: the others stop taking batches
     std::mutex collect_mutex;
     const Cluster::CollectFn* collect = nullptr;  // rank 0's
 };
@@ -158,6 +159,7 @@ public:
                                           const std::atomic<bool>* cancel) override {
         if (rank_ == 0) {
             shared_->next_item = 0;
+            shared_->work_failed = false;
             shared_->collect = &collect;
         }
         shared_->barrier();
@@ -167,10 +169,11 @@ public:
             const int first = shared_->next_item.fetch_add(batch);
             if (first >= count) break;
             const int last = first + batch < count ? first + batch : count;
-            if (mine) continue;  // a failed rank takes its share of batches and drops them
+            if (mine || shared_->work_failed) break;  // the pass is lost: on to the agreement
             if (cancel && cancel->load()) {
                 mine = RankFailure{rank_, cluster_interrupted_code, "interrupted"};
-                continue;
+                shared_->work_failed = true;
+                break;
             }
             try {
                 const Bytes result = work(first, last);
@@ -178,6 +181,7 @@ public:
                 (*shared_->collect)(first, last, result);
             } catch (...) {
                 mine = failure_of(std::current_exception(), rank_);
+                shared_->work_failed = true;
             }
         }
         return agree(mine);

@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <new>
 #include <random>
 
 namespace caustica {
@@ -369,6 +370,11 @@ void RenderSession::run_distributed(tbb::task_arena& arena, int threads) {
             throw;
         } catch (const InputError& e) {
             error = std::make_exception_ptr(job_.located_option_error(e));
+        } catch (const std::bad_alloc&) {  // said as one process says it (app/render_command.cpp)
+            error = std::make_exception_ptr(
+                InputError(job_.where, "gr.render: not enough memory to render " + std::to_string(job_.width) + " x " +
+                                           std::to_string(job_.height) +
+                                           " pixels on this machine; lower the resolution or the photon count"));
         } catch (...) {
             error = std::current_exception();
         }
@@ -781,7 +787,9 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         TileContext first_context = context;
         first_context.integrator = first_integrator.get();
         first_context.seed = acc.seed;
-        runner.run("first radii", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
+        // Its own counters: the rays of this repeat are not the image's (statistics sum them).
+        PassRunner repeat{*this, runner.arena, {}};
+        repeat.run("first radii", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
             render_accumulation_tile(first_context, tile, 0, accumulator_, image_, c, true);
         });
     }
