@@ -56,6 +56,7 @@ stage() { awk -v name="$2" 'index($0, "  " name " ") == 1 && $NF == "s" {v = $(N
 reported() { sed -n 's/^wrote .*, \([0-9.]*\) s)$/\1/p' "$1" | tail -1; }
 map_photons() { awk '$1 == "caustic" && $2 == "map" {print $3}' "$1" | tail -1; }
 rays_per_second() { sed -n 's/^ *total .*(\([0-9.]*\) M rays\/s)$/\1/p' "$1" | tail -1; }
+lines() { if [[ -f "$1" ]]; then wc -l <"$1"; else echo 0; fi; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {if (b > 0) printf "%.2f", a / b; else print "nan"}'; }
 
 # Before each timed run: the bench lock (/tmp/caustica-bench.lock), then the build lock
@@ -83,11 +84,11 @@ wait_idle() {
 exec 9>>"$lock" 8>>"$build_lock"
 timed() {
     local log="$1"; shift
-    local t0 t1 status=0 build_held=1 attempt
+    local t0 t1 status=0 build_held=1
     flock 9
     flock -w 120 8 || { build_held=0; echo nolock >>"$work/no-build-lock"; }
     # A run interrupted from outside (exit 130 or 143: another user's signal) is run again, twice at most.
-    for attempt in 1 2 3; do
+    for _ in 1 2 3; do
         wait_idle
         status=0
         t0=$(now)
@@ -142,14 +143,15 @@ for entry in "${cases[@]}"; do
             if [[ $mode != a ]] && ! cmp -s "$work/c$idx-a-$i.pfm" "$out"; then same="DIFFER($mode,run$i)"; fi
         done
     done
+    declare -A mwall=() mrep=()
     for mode in a b c; do
-        eval "m_wall_$mode=$(tr ' ' '\n' <<<"${walls[$mode]}" | grep . | median)"
-        eval "m_rep_$mode=$(tr ' ' '\n' <<<"${reps[$mode]}" | grep . | median)"
+        mwall[$mode]=$(tr ' ' '\n' <<<"${walls[$mode]}" | grep . | median)
+        mrep[$mode]=$(tr ' ' '\n' <<<"${reps[$mode]}" | grep . | median)
     done
     first_log[$idx]="$work/c$idx-a-1.log"
     printf '%-24s %-15s %9s %9s %9s %9s %9s %9s %6s %6s %s\n' "$name" "${before// /,}" \
-        "$m_wall_a" "$m_wall_b" "$m_wall_c" "$m_rep_a" "$m_rep_b" "$m_rep_c" \
-        "$(ratio "$m_wall_a" "$m_wall_b")" "$(ratio "$m_wall_c" "$m_wall_b")" "$same"
+        "${mwall[a]}" "${mwall[b]}" "${mwall[c]}" "${mrep[a]}" "${mrep[b]}" "${mrep[c]}" \
+        "$(ratio "${mwall[a]}" "${mwall[b]}")" "$(ratio "${mwall[c]}" "${mwall[b]}")" "$same"
     # Per-stage times of the last run of each mode (rank 0's for b).
     for mode in a b c; do
         log="$work/c$idx-$mode-$runs.log"
@@ -220,7 +222,7 @@ echo "mpirun -n 2 start-up and shutdown (a program that does nothing):"
 ts=()
 for ((i = 1; i <= runs; ++i)); do ts+=("$(timed "$work/true.log" "${mpi[@]}" /bin/true)"); done
 echo "  median $(printf '%s\n' "${ts[@]}" | median) s over $runs runs"
-echo "runs started on a busy machine (no idle half second within 30 s): $(cat "$work/busy-starts" 2>/dev/null | wc -l)"
-echo "runs interrupted from outside and run again: $(cat "$work/interrupted" 2>/dev/null | wc -l)"
-echo "runs without the build lock (not free within 2 minutes): $(cat "$work/no-build-lock" 2>/dev/null | wc -l)"
+echo "runs started on a busy machine (no idle half second within 30 s): $(lines "$work/busy-starts")"
+echo "runs interrupted from outside and run again: $(lines "$work/interrupted")"
+echo "runs without the build lock (not free within 2 minutes): $(lines "$work/no-build-lock")"
 echo "uptime: $(uptime)"

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <unordered_map>
+
+#include <tbb/parallel_invoke.h>
 
 namespace caustica {
 
@@ -18,14 +21,28 @@ struct BuildEntry {
 struct PhotonKdTree::Builder {
     PhotonKdTree& tree;
     std::vector<BuildEntry> entries;
+    std::unordered_map<std::uint32_t, std::uint32_t> node_counts;  // filled before the parallel build
 
-    /// Builds the subtree over entries [begin, end) whose points lie in the box [lo, hi].
-    std::uint32_t build(std::uint32_t begin, std::uint32_t end, glm::vec3 lo, glm::vec3 hi) {
-        const auto index = static_cast<std::uint32_t>(tree.nodes_.size());
-        tree.nodes_.push_back({});
+    /// Nodes of a subtree of `n` points: fixed by n, so that every subtree knows where its nodes go
+    /// (depth first, left subtree right after its parent) before its siblings are built.
+    std::uint32_t nodes_for(std::uint32_t n) {
+        if (n <= leaf_size) return 1;
+        if (auto it = node_counts.find(n); it != node_counts.end()) return it->second;
+        const std::uint32_t count = 1 + nodes_for(n / 2) + nodes_for(n - n / 2);
+        node_counts.emplace(n, count);
+        return count;
+    }
+    std::uint32_t nodes_for_built(std::uint32_t n) const {
+        return n <= leaf_size ? 1 : node_counts.at(n);
+    }
+
+    /// Builds the subtree over entries [begin, end), whose points lie in the box [lo, hi], into
+    /// the nodes from `index` on. Large subtrees build their halves in parallel: the halves are
+    /// disjoint ranges of entries and of nodes, so the tree is the one a serial build makes.
+    void build(std::uint32_t index, std::uint32_t begin, std::uint32_t end, glm::vec3 lo, glm::vec3 hi) {
         if (end - begin <= leaf_size) {
             tree.nodes_[index] = {0.0f, leaf_tag, begin, end};
-            return index;
+            return;
         }
         // Split the box's longest side at the median point (selection: O(n) per level). The box
         // is the parent's cut at the split, so no pass over the points is needed to find it.
@@ -38,17 +55,24 @@ struct PhotonKdTree::Builder {
         glm::vec3 left_hi = hi, right_lo = lo;
         left_hi[axis] = split;
         right_lo[axis] = split;
-        build(begin, mid, lo, left_hi);
-        const std::uint32_t right = build(mid, end, right_lo, hi);
+        const std::uint32_t right = index + 1 + nodes_for_built(mid - begin);
         tree.nodes_[index] = {split, static_cast<std::uint32_t>(axis), right, 0};
-        return index;
+        if (end - begin >= parallel_points)
+            tbb::parallel_invoke([&] { build(index + 1, begin, mid, lo, left_hi); },
+                                 [&] { build(right, mid, end, right_lo, hi); });
+        else {
+            build(index + 1, begin, mid, lo, left_hi);
+            build(right, mid, end, right_lo, hi);
+        }
     }
+
+    static constexpr std::uint32_t parallel_points = 1u << 15;
 };
 
 PhotonKdTree::PhotonKdTree(std::vector<glm::vec3> points) {
     const auto n = static_cast<std::uint32_t>(points.size());
     if (n == 0) return;
-    Builder builder{*this, std::vector<BuildEntry>(n)};
+    Builder builder{*this, std::vector<BuildEntry>(n), {}};
     lo_ = hi_ = points[0];
     for (std::uint32_t i = 0; i < n; ++i) {
         builder.entries[i] = {points[i], i};
@@ -57,8 +81,8 @@ PhotonKdTree::PhotonKdTree(std::vector<glm::vec3> points) {
     }
     points.clear();
     points.shrink_to_fit();
-    nodes_.reserve(2 * (n / leaf_size + 1));
-    builder.build(0, n, lo_, hi_);
+    nodes_.resize(builder.nodes_for(n));
+    builder.build(0, 0, n, lo_, hi_);
     points_.resize(n);
     order_.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) {
