@@ -214,22 +214,16 @@ TEST(Cluster, MergedPhotonSharesAreOneProcesssMap) {
     b.caustic_lights.resize(1);
     a.caustic_lights[0].stored = 2;
     b.caustic_lights[0].stored = 1;
-    std::vector<ClassicPhotonResult> shares;
-    shares.push_back(a);
-    shares.push_back(b);
-    const ClassicPhotonResult merged = merge_classic_photons(std::move(shares));
+    const ClassicPhotonResult merged = merge_classic_photons({share_of(a), share_of(b)});
     ASSERT_EQ(merged.caustic.size(), 3u);
     EXPECT_EQ(merged.caustic[0].position.x, 1.0f);
     EXPECT_EQ(merged.caustic[1].position.x, 3.0f);
     EXPECT_EQ(merged.caustic[2].position.x, 2.0f);
     EXPECT_EQ(merged.caustic_lights[0].stored, 3);
     // A share that claims more photons than it holds is refused, not read past its end.
-    ClassicPhotonResult c = a, d = b;
+    ClassicPhotonResult d = b;
     d.caustic.clear();
-    std::vector<ClassicPhotonResult> broken;
-    broken.push_back(c);
-    broken.push_back(d);
-    EXPECT_THROW(merge_classic_photons(std::move(broken)), std::runtime_error);
+    EXPECT_THROW(merge_classic_photons({share_of(a), share_of(d)}), std::runtime_error);
 }
 
 TEST(Cluster, ASceneErrorOnOneRankStopsEveryRankWithItsMessage) {

@@ -175,6 +175,16 @@ public:
         get_bytes(&value, sizeof value);
         return value;
     }
+    /// `count` T (a u64 count, then the values) left where they are: their first byte.
+    template <typename T>
+    const std::uint8_t* get_span(std::size_t& count) {
+        const std::uint64_t n = get<std::uint64_t>();
+        if (n > (bytes_.size() - at_) / sizeof(T)) throw std::runtime_error("photon share: truncated message");
+        const std::uint8_t* first = bytes_.data() + at_;
+        at_ += static_cast<std::size_t>(n) * sizeof(T);
+        count = static_cast<std::size_t>(n);
+        return first;
+    }
     template <typename T>
     std::vector<T> get_vector() {
         const std::uint64_t n = get<std::uint64_t>();
@@ -210,34 +220,35 @@ Cluster::Bytes share_bytes(const ClassicPhotonResult& r) {
     return std::move(w.bytes);
 }
 
-ClassicPhotonResult share_of(const Cluster::Bytes& bytes, std::size_t lights) {
+/// A share as it lies in the bytes another rank sent: the photons stay there until merged.
+ClassicPhotonShare share_view(const Cluster::Bytes& bytes, std::size_t lights) {
     ShareReader reader(bytes);
-    ClassicPhotonResult r;
-    r.caustic = reader.get_vector<Photon>();
-    r.gi = reader.get_vector<Photon>();
-    r.caustic_blocks = reader.get_vector<std::uint32_t>();
-    r.gi_blocks = reader.get_vector<std::uint32_t>();
-    r.caustic_lights.resize(lights);
-    r.gi_lights.resize(lights);
-    for (std::vector<LightPhotonReport>* reports : {&r.caustic_lights, &r.gi_lights})
+    ClassicPhotonShare share;
+    share.caustic = reader.get_span<Photon>(share.caustic_count);
+    share.gi = reader.get_span<Photon>(share.gi_count);
+    share.caustic_blocks = reader.get_vector<std::uint32_t>();
+    share.gi_blocks = reader.get_vector<std::uint32_t>();
+    share.caustic_lights.resize(lights);
+    share.gi_lights.resize(lights);
+    for (std::vector<LightPhotonReport>* reports : {&share.caustic_lights, &share.gi_lights})
         for (LightPhotonReport& l : *reports) {
             l.candidates = reader.get<long long>();
             l.traced = reader.get<long long>();
             l.stored = reader.get<long long>();
         }
-    return r;
+    return share;
 }
 
 /// Every rank's share of the photons, merged on every rank in one process's order.
 ClassicPhotonResult gather_classic_photons(Cluster& cluster, ClassicPhotonResult mine, std::size_t lights) {
     std::vector<Cluster::Bytes> all = cluster.all_gather(share_bytes(mine));
-    std::vector<ClassicPhotonResult> shares;
+    // The photons: one copy from where they arrived into the merged maps.
+    std::vector<ClassicPhotonShare> shares;
     shares.reserve(all.size());
-    for (std::size_t r = 0; r < all.size(); ++r) {
-        shares.push_back(share_of(all[r], lights));
-        Cluster::Bytes().swap(all[r]);  // one copy of the photons at a time
-    }
-    ClassicPhotonResult merged = merge_classic_photons(std::move(shares));
+    for (const Cluster::Bytes& bytes : all) shares.push_back(share_view(bytes, lights));
+    ClassicPhotonResult merged = merge_classic_photons(shares);
+    shares.clear();
+    all.clear();
     // The projection maps, timings and warnings are this rank's own (the same maps on every rank).
     merged.maps = std::move(mine.maps);
     for (std::size_t l = 0; l < lights; ++l) {

@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 namespace caustica {
@@ -435,28 +436,53 @@ ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const Textur
 
 int classic_emission_blocks() { return emission_blocks; }
 
+ClassicPhotonShare share_of(const ClassicPhotonResult& result) {
+    ClassicPhotonShare share;
+    share.caustic = reinterpret_cast<const std::uint8_t*>(result.caustic.data());
+    share.caustic_count = result.caustic.size();
+    share.gi = reinterpret_cast<const std::uint8_t*>(result.gi.data());
+    share.gi_count = result.gi.size();
+    share.caustic_blocks = result.caustic_blocks;
+    share.gi_blocks = result.gi_blocks;
+    share.caustic_lights = result.caustic_lights;
+    share.gi_lights = result.gi_lights;
+    return share;
+}
+
 namespace {
 
-/// One map's photons from the shares, block by block in one process's order.
-std::vector<Photon> merge_map(const std::vector<ClassicPhotonResult>& shares, std::vector<Photon> ClassicPhotonResult::*photons,
-                              std::vector<std::uint32_t> ClassicPhotonResult::*blocks) {
+/// One map's photons from the shares in one process's order: where each block's photons come
+/// from and go to (a pass over the counts), then the copies, blocks in parallel.
+std::vector<Photon> merge_map(const std::vector<ClassicPhotonShare>& shares, bool caustic) {
     const std::size_t n = shares.size();
-    std::size_t total = 0;
-    for (const ClassicPhotonResult& s : shares) total += (s.*photons).size();
-    std::vector<Photon> merged;
-    merged.reserve(total);
+    auto blocks_of = [&](const ClassicPhotonShare& s) -> const std::vector<std::uint32_t>& {
+        return caustic ? s.caustic_blocks : s.gi_blocks;
+    };
+    const std::size_t cells = blocks_of(shares[0]).size();
+    std::vector<std::size_t> from(cells), to(cells);
     std::vector<std::size_t> cursor(n, 0);
-    const std::size_t cells = (shares[0].*blocks).size();
+    std::size_t total = 0;
     for (std::size_t i = 0; i < cells; ++i) {
         const std::size_t owner = (i % emission_blocks) % n;  // block index within its light
-        const ClassicPhotonResult& s = shares[owner];
-        const std::uint32_t count = (s.*blocks)[i];
-        if (cursor[owner] + count > (s.*photons).size())
-            throw std::runtime_error("merging photon shares: a share holds fewer photons than its block counts say");
-        merged.insert(merged.end(), (s.*photons).begin() + static_cast<std::ptrdiff_t>(cursor[owner]),
-                      (s.*photons).begin() + static_cast<std::ptrdiff_t>(cursor[owner] + count));
+        const std::uint32_t count = blocks_of(shares[owner])[i];
+        from[i] = cursor[owner];
+        to[i] = total;
         cursor[owner] += count;
+        total += count;
     }
+    for (std::size_t r = 0; r < n; ++r)
+        if (cursor[r] > (caustic ? shares[r].caustic_count : shares[r].gi_count))
+            throw std::runtime_error("merging photon shares: a share holds fewer photons than its block counts say");
+    std::vector<Photon> merged(total);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const ClassicPhotonShare& s = shares[(i % emission_blocks) % n];
+            const std::uint32_t count = blocks_of(s)[i];
+            if (count == 0) continue;
+            const std::uint8_t* source = (caustic ? s.caustic : s.gi) + from[i] * sizeof(Photon);
+            std::memcpy(static_cast<void*>(merged.data() + to[i]), source, count * sizeof(Photon));
+        }
+    });
     return merged;
 }
 
@@ -470,16 +496,14 @@ void add_reports(std::vector<LightPhotonReport>& into, const std::vector<LightPh
 
 }  // namespace
 
-ClassicPhotonResult merge_classic_photons(std::vector<ClassicPhotonResult>&& shares) {
+ClassicPhotonResult merge_classic_photons(const std::vector<ClassicPhotonShare>& shares) {
     if (shares.empty()) return {};
-    if (shares.size() == 1) return std::move(shares[0]);
-    for (const ClassicPhotonResult& s : shares)
+    for (const ClassicPhotonShare& s : shares)
         if (s.caustic_blocks.size() != shares[0].caustic_blocks.size() || s.gi_blocks.size() != shares[0].gi_blocks.size())
             throw std::runtime_error("merging photon shares: the ranks shot for different light counts");
     ClassicPhotonResult merged;
-    merged.caustic = merge_map(shares, &ClassicPhotonResult::caustic, &ClassicPhotonResult::caustic_blocks);
-    merged.gi = merge_map(shares, &ClassicPhotonResult::gi, &ClassicPhotonResult::gi_blocks);
-    merged.maps = std::move(shares[0].maps);
+    merged.caustic = merge_map(shares, true);
+    merged.gi = merge_map(shares, false);
     merged.caustic_lights = shares[0].caustic_lights;
     merged.gi_lights = shares[0].gi_lights;
     for (std::size_t r = 1; r < shares.size(); ++r) {

@@ -70,10 +70,26 @@ struct ClassicPhotonResult {
 /// Blocks of emission cells the photons are shot in (the unit of a rank's share).
 int classic_emission_blocks();
 
+/// One rank's share of the classic photons where it lies (a result in memory, or the bytes another
+/// rank sent): its photons as bytes (Photon after Photon) and how many each block stored.
+struct ClassicPhotonShare {
+    const std::uint8_t* caustic = nullptr;
+    std::size_t caustic_count = 0;
+    const std::uint8_t* gi = nullptr;
+    std::size_t gi_count = 0;
+    std::vector<std::uint32_t> caustic_blocks, gi_blocks;
+    std::vector<LightPhotonReport> caustic_lights, gi_lights;  ///< counts only
+};
+
+/// A view of a result held in memory (it must outlive the view).
+ClassicPhotonShare share_of(const ClassicPhotonResult& result);
+
 /// The photons of several ranks' shares (in rank order, each from shoot_classic_photons with
 /// share_rank = its index) in the order one process stores them: the same maps, bit for bit.
-/// Sums the lights' counts; the projection maps and timings are the first share's.
-ClassicPhotonResult merge_classic_photons(std::vector<ClassicPhotonResult>&& shares);
+/// Copies each photon once, blocks in parallel. Sums the lights' counts (no projection maps,
+/// timings or warnings: the caller's own). Throws when a share holds fewer photons than its block
+/// counts say.
+ClassicPhotonResult merge_classic_photons(const std::vector<ClassicPhotonShare>& shares);
 
 /// Photons the cell scheme shoots for N requested: the sum over the 1 310 720 cells of
 /// floor(N a_T), a_T the cell's solid angle over 4 pi. About N - 655 360 for large N.
