@@ -11,7 +11,7 @@
 # Then the pieces the scaling model needs: classic photon shooting and k-d tree time against the
 # photon count, the photon bytes every rank receives in the all-gather (36 B a stored photon), the
 # rays/s of one core, the time of a progressive pass per megapixel, the size of the final reduction
-# (96 B a pixel) and mpirun's start-up time.
+# (112 B a pixel: 14 int64) and mpirun's start-up time.
 # Every timed run holds /tmp/caustica-bench.lock (and the build lock, see timed below); the load is
 # printed before each case.
 # Needs a built build/caustica (ninja -C build caustica) and Open MPI's mpirun.
@@ -214,7 +214,7 @@ for idx in 3 4; do
         printf "  %-22s %d passes: tracing %.3f s/pass = %.3f s/pass/Mpx; photons %.3f s/pass (passes 2..n)\n",
             name, n, pp / n, pp / n / (px / 1e6), (n > 1 ? ph / (n - 1) : 0) }'
     dirs=$(sed -n 's/^ *photons over passes *\([0-9]*\) directions/\1/p' "$log")
-    echo "      photon directions over the passes: $dirs; final reduction: 96 B x pixels = $(awk -v px="$(sed -n 's/^wrote .*(\([0-9]*\) x \([0-9]*\),.*/\1 \2/p' "$log" | awk '{print $1 * $2}')" 'BEGIN {printf "%.1f MB", 96 * px / 1e6}')"
+    echo "      photon directions over the passes: $dirs; final reduction: 112 B x pixels = $(awk -v px="$(sed -n 's/^wrote .*(\([0-9]*\) x \([0-9]*\),.*/\1 \2/p' "$log" | awk '{print $1 * $2}')" 'BEGIN {printf "%.1f MB", 112 * px / 1e6}')"
 done
 echo
 
