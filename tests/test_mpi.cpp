@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -174,4 +175,63 @@ TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
     // No rank is left running.
     const CommandResult left = run_shell("pgrep -f 'render.*never[.]pfm' || true");
     EXPECT_TRUE(left.output.empty()) << left.output;
+}
+
+TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
+    // SIGTERM to rank 1 alone while the classic tiles are handed out: rank 0 stops handing out
+    // and rendering batches, so every rank ends well before the render would have (without
+    // stopping, rank 0 renders the rest of the tiles alone), and nothing is written.
+    const std::string args = "' render '" CAUSTICA_SOURCE_DIR "/scenes/default.lua' -v --hires --caustic-num-photons 100000 --caustic-num-neighbours 100";
+    const auto whole_start = std::chrono::steady_clock::now();
+    ASSERT_EQ(render(args.substr(9) + " -o whole.pfm", 2).code, 0);
+    const double whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
+    const std::string log = (dir_ / "log.txt").string();
+    const std::string command = "cd '" + dir_.string() + "' && " + environment() + "exec " + launcher(2) + " '" +
+                                binary + args + " -o never.pfm > '" + log + "' 2>&1";
+    const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+    pid_t pid = 0;
+    ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ), 0);
+    // Rank 1: the child of mpirun whose environment says so, once rank 0 renders (its -v line).
+    pid_t rank1 = 0;
+    for (int i = 0; i < 600 && rank1 == 0; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        std::ifstream in(log);
+        const std::string text{std::istreambuf_iterator<char>(in), {}};
+        if (text.find("rendering never.pfm") == std::string::npos) continue;
+        const CommandResult children = run_shell("pgrep -P " + std::to_string(pid));
+        std::istringstream pids(children.output);
+        for (pid_t child; pids >> child;) {
+            std::ifstream environment_file("/proc/" + std::to_string(child) + "/environ", std::ios::binary);
+            const std::string env{std::istreambuf_iterator<char>(environment_file), {}};
+            if (env.find(std::string("OMPI_COMM_WORLD_RANK=1") + '\0') != std::string::npos) rank1 = child;
+        }
+    }
+    ASSERT_NE(rank1, 0) << "rank 1 not found";
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // into the tiles
+    ::kill(rank1, SIGTERM);
+    const auto t0 = std::chrono::steady_clock::now();
+    int status = 0;
+    bool ended = false;
+    while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60)) {
+        if (::waitpid(pid, &status, WNOHANG) == pid) {
+            ended = true;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (!ended) {
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, &status, 0);
+    }
+    ASSERT_TRUE(ended);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::ifstream in(log);
+    const std::string output{std::istreambuf_iterator<char>(in), {}};
+    EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+    EXPECT_FALSE(exists("never.pfm")) << output;
+    EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
+    // Signalled half a second into the tiles of a render of `whole` seconds; stopping takes the
+    // batch in hand and the agreement.
+    std::printf("stopped %.2f s after the signal; a whole render takes %.2f s\n", seconds, whole);
+    EXPECT_LT(seconds, 0.5 * whole) << output;
 }
