@@ -930,8 +930,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
     std::lock_guard lock(mutex_);
     progress_.stopped_by = stopped_by;
     progress_.accumulated_seconds = acc.seconds;
-    progress_.passes_done = acc.next_pass;
-    progress_.error = acc.error;
+    if (shared) progress_.error = acc.error;  // from every rank's sums (one process's: the last pass's)
     RenderStats::Accumulation& a = stats_.accumulation;
     a.passes = acc.next_pass;
     a.first_radius = acc.first_radius;
