@@ -182,9 +182,15 @@ TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
     // and rendering batches, so every rank ends well before the render would have (without
     // stopping, rank 0 renders the rest of the tiles alone), and nothing is written.
     const std::string args = "' render '" CAUSTICA_SOURCE_DIR "/scenes/default.lua' -v --hires --caustic-num-photons 100000 --caustic-num-neighbours 100";
-    const auto whole_start = std::chrono::steady_clock::now();
-    ASSERT_EQ(render(args.substr(9) + " -o whole.pfm", 2).code, 0);
-    const double whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
+    // The time bound is checked in the plain build only (under the sanitizers everything is
+    // slower in ways no bound survives; the run still checks what ends and what is written).
+    const bool timed = !std::getenv("ASAN_OPTIONS") && !std::getenv("TSAN_OPTIONS");
+    double whole = 0.0;
+    if (timed) {
+        const auto whole_start = std::chrono::steady_clock::now();
+        ASSERT_EQ(render(args.substr(9) + " -o whole.pfm", 2).code, 0);
+        whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
+    }
     const std::string log = (dir_ / "log.txt").string();
     const std::string command = "cd '" + dir_.string() + "' && " + environment() + "exec " + launcher(2) + " '" +
                                 binary + args + " -o never.pfm > '" + log + "' 2>&1";
@@ -212,12 +218,19 @@ TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
     const auto t0 = std::chrono::steady_clock::now();
     int status = 0;
     bool ended = false;
+    double said = -1.0;  // when rank 0 said it stopped (mpirun itself then takes ~2 s to end)
     while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60)) {
+        if (said < 0.0) {
+            std::ifstream in(log);
+            const std::string text{std::istreambuf_iterator<char>(in), {}};
+            if (text.find("caustica: interrupted") != std::string::npos)
+                said = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        }
         if (::waitpid(pid, &status, WNOHANG) == pid) {
             ended = true;
             break;
         }
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     if (!ended) {
         ::kill(pid, SIGKILL);
@@ -230,8 +243,11 @@ TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
     EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
     EXPECT_FALSE(exists("never.pfm")) << output;
     EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
-    // Signalled half a second into the tiles of a render of `whole` seconds; stopping takes the
-    // batch in hand and the agreement.
-    std::printf("stopped %.2f s after the signal; a whole render takes %.2f s\n", seconds, whole);
-    EXPECT_LT(seconds, 0.5 * whole) << output;
+    // Signalled about a second into a render of `whole` seconds: rank 0 stops after the batch in
+    // hand and the agreement (0.06 s here). Without that it would render the rest of the tiles
+    // alone, longer than half the whole render.
+    std::printf("rank 0 stopped %.2f s after the signal, mpirun ended after %.2f s; a whole render takes %.2f s\n",
+                said, seconds, whole);
+    EXPECT_GE(said, 0.0) << output;
+    if (timed) EXPECT_LT(said, 0.3 * whole) << output;
 }
