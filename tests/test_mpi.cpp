@@ -137,7 +137,7 @@ TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
     // terminal, and passes it on. Every process ends within seconds, nothing is written.
     const std::string log = (dir_ / "log.txt").string();
     const std::string command = "cd '" + dir_.string() + "' && " + environment() + "exec " + launcher(2) + " '" + binary + "' render '" +
-                                box + "' -v --lores --integrator progressive --passes 1000 -o never.pfm > '" + log + "' 2>&1";
+                                box + "' -v --lores --integrator progressive --passes 1000 -o ctrl-c.pfm > '" + log + "' 2>&1";
     const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
     pid_t pid = 0;
     ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ), 0);
@@ -145,7 +145,7 @@ TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
     for (int i = 0; i < 600; ++i) {
         std::ifstream in(log);
         const std::string text{std::istreambuf_iterator<char>(in), {}};
-        if (text.find("rendering never.pfm") != std::string::npos) break;
+        if (text.find("rendering ctrl-c.pfm") != std::string::npos) break;
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
@@ -169,11 +169,11 @@ TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
     std::ifstream in(log);
     const std::string output{std::istreambuf_iterator<char>(in), {}};
     EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
-    EXPECT_FALSE(exists("never.pfm")) << output;
+    EXPECT_FALSE(exists("ctrl-c.pfm")) << output;
     EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
     EXPECT_LT(seconds, 10.0) << output;
     // No rank is left running.
-    const CommandResult left = run_shell("pgrep -f 'render.*never[.]pfm' || true");
+    const CommandResult left = run_shell("pgrep -f 'render.*ctrl-c[.]pfm' || true");
     EXPECT_TRUE(left.output.empty()) << left.output;
 }
 
@@ -193,7 +193,7 @@ TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
     }
     const std::string log = (dir_ / "log.txt").string();
     const std::string command = "cd '" + dir_.string() + "' && " + environment() + "exec " + launcher(2) + " '" +
-                                binary + args + " -o never.pfm > '" + log + "' 2>&1";
+                                binary + args + " -o sigterm.pfm > '" + log + "' 2>&1";
     const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
     pid_t pid = 0;
     ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ), 0);
@@ -203,7 +203,7 @@ TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
         std::ifstream in(log);
         const std::string text{std::istreambuf_iterator<char>(in), {}};
-        if (text.find("rendering never.pfm") == std::string::npos) continue;
+        if (text.find("rendering sigterm.pfm") == std::string::npos) continue;
         const CommandResult children = run_shell("pgrep -P " + std::to_string(pid));
         std::istringstream pids(children.output);
         for (pid_t child; pids >> child;) {
@@ -241,7 +241,7 @@ TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
     std::ifstream in(log);
     const std::string output{std::istreambuf_iterator<char>(in), {}};
     EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
-    EXPECT_FALSE(exists("never.pfm")) << output;
+    EXPECT_FALSE(exists("sigterm.pfm")) << output;
     EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
     // Signalled about a second into a render of `whole` seconds: rank 0 stops after the batch in
     // hand and the agreement (0.06 s here). Without that it would render the rest of the tiles
