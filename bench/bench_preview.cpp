@@ -108,6 +108,31 @@ void latency(const RenderJob& script_job, int changes, int width, int height) {
                 1e3 * driver.longest_restart_seconds());
 }
 
+/// The whole preview in a 1280 x 720 headless window, a scene open at a resolution scale: what
+/// every UI measurement below starts from.
+struct PreviewUnderTest {
+    PreviewUnderTest(const std::string& scene, double resolution_scale) {
+        model.open(scene);
+        model.set_resolution_scale(resolution_scale);
+    }
+    /// Runs frames (2 ms apart, as the waits poll) until `done`.
+    template <typename Done>
+    void frames_until(Done&& done, const HeadlessInput& input = {}) {
+        while (!done()) {
+            window.frame(app, input);
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+    }
+    /// Until the render is finished and no change waits.
+    void settle(const HeadlessInput& input = {}) {
+        frames_until([&] { return model.driver().finished() && !model.changes_pending(); }, input);
+    }
+
+    HeadlessWindow window{1280, 720};
+    ViewModel model{ModelConfig{}};
+    ViewApp app{model};
+};
+
 /// The same through the whole UI, end to end: a mouse drag goes in as the platform's input, frames
 /// run with the panels drawn, paced as the app paces them (ui/frame_pacing.h) or, for comparison,
 /// on the fixed 60 Hz beat used before issue 12, and the time is taken when a frame showing the
@@ -118,18 +143,13 @@ void latency(const RenderJob& script_job, int changes, int width, int height) {
 /// frames, as the wait polls). With both pacings, the changes alternate between them, so that both
 /// see the same machine load.
 void latency_with_ui(const std::string& scene, int changes, bool new_pacing, bool fixed_beat) {
-    HeadlessWindow window(1280, 720);
-    ModelConfig config;
-    ViewModel model(config);
-    ViewApp app(model);
-    model.open(scene);
-    model.set_resolution_scale(960.0 / 512.0);
+    PreviewUnderTest preview(scene, 960.0 / 512.0);
+    HeadlessWindow& window = preview.window;
+    ViewModel& model = preview.model;
+    ViewApp& app = preview.app;
     HeadlessInput input;
     input.mouse = glm::vec2(300.0f, 360.0f);  // over the image, left of the sidebar
-    while (!model.driver().finished() || model.changes_pending()) {
-        window.frame(app, input);
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    preview.settle(input);
     input.buttons[0] = true;  // the drag begins: held from here on
     window.frame(app, input);
     struct Times {
@@ -202,18 +222,13 @@ void latency_with_ui(const std::string& scene, int changes, bool new_pacing, boo
 /// the start of the frame that read the drag that render shows to the end of the frame showing
 /// it, and the time between such frames.
 void continuous_drag(const std::string& scene, int frames) {
-    HeadlessWindow window(1280, 720);
-    ModelConfig config;
-    ViewModel model(config);
-    ViewApp app(model);
-    model.open(scene);
-    model.set_resolution_scale(960.0 / 512.0);
+    PreviewUnderTest preview(scene, 960.0 / 512.0);
+    HeadlessWindow& window = preview.window;
+    ViewModel& model = preview.model;
+    ViewApp& app = preview.app;
     HeadlessInput input;
     input.mouse = glm::vec2(300.0f, 360.0f);
-    while (!model.driver().finished() || model.changes_pending()) {
-        window.frame(app, input);
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    preview.settle(input);
     input.buttons[0] = true;
     window.frame(app, input);
     struct Times {
@@ -283,16 +298,10 @@ void continuous_drag(const std::string& scene, int frames) {
 
 /// Where an idle frame's time goes (render finished, 960 x 960 image, 1280 x 720 window).
 void draw_profile(const std::string& scene, int frames) {
-    HeadlessWindow window(1280, 720);
-    ModelConfig config;
-    ViewModel model(config);
-    ViewApp app(model);
-    model.open(scene);
-    model.set_resolution_scale(960.0 / 512.0);
-    while (!model.driver().finished() || model.changes_pending()) {
-        window.frame(app);
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    PreviewUnderTest preview(scene, 960.0 / 512.0);
+    HeadlessWindow& window = preview.window;
+    ViewApp& app = preview.app;
+    preview.settle();
     window.measure_draw(true);
     std::vector<double> build, image, panels;
     for (int i = 0; i < frames; ++i) {
@@ -416,16 +425,13 @@ double process_cpu_seconds() {
 /// `wait_until_done`: measure an idle window (render finished) to get the UI's own CPU cost.
 void frame_times(const std::string& scene, int frames, double resolution_scale, bool orbit, const char* what,
                  bool wait_until_done = false) {
-    HeadlessWindow window(1280, 720);
-    ModelConfig config;
-    ViewModel model(config);
-    ViewApp app(model);
-    model.open(scene);
-    model.set_resolution_scale(resolution_scale);
-    while (!(wait_until_done ? model.driver().finished() : model.driver().first_full_pass_done())) {
-        window.frame(app);  // loaded and rendered once
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    PreviewUnderTest preview(scene, resolution_scale);
+    HeadlessWindow& window = preview.window;
+    ViewModel& model = preview.model;
+    ViewApp& app = preview.app;
+    preview.frames_until([&] {  // loaded and rendered once
+        return wait_until_done ? model.driver().finished() : model.driver().first_full_pass_done();
+    });
     std::vector<double> times;
     const double cpu0 = process_cpu_seconds();
     int rendering = 0;
