@@ -32,6 +32,58 @@ const std::string mpirun = CAUSTICA_MPIRUN;
 const std::string binary = CAUSTICA_BINARY;
 const std::string box = CAUSTICA_SOURCE_DIR "/tests/ui/scenes/caustic_box.lua";
 
+std::string file_text(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+/// mpirun started in the background by /bin/sh, its output going to a log file.
+class Background {
+public:
+    Background(const std::string& command, fs::path log) : log_(std::move(log)) {
+        const std::string line = command + " > '" + log_.string() + "' 2>&1";
+        const char* argv[] = {"/bin/sh", "-c", line.c_str(), nullptr};
+        if (::posix_spawn(&pid_, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) != 0) pid_ = 0;
+    }
+    ~Background() {
+        if (pid_ > 0 && !ended_) {
+            ::kill(pid_, SIGKILL);
+            ::waitpid(pid_, &status_, 0);
+        }
+    }
+    pid_t pid() const { return pid_; }
+    std::string output() const { return file_text(log_); }
+    bool says(const std::string& text) const { return output().find(text) != std::string::npos; }
+
+    /// Polls every `step` until `ready` or `limit` seconds passed; whether it got ready.
+    template <typename Ready>
+    static bool poll(double limit, std::chrono::milliseconds step, Ready&& ready) {
+        const auto t0 = std::chrono::steady_clock::now();
+        while (std::chrono::steady_clock::now() - t0 < std::chrono::duration<double>(limit)) {
+            if (ready()) return true;
+            std::this_thread::sleep_for(step);
+        }
+        return false;
+    }
+    /// Waits up to `limit` seconds for the process to end, calling `tick` every 10 ms meanwhile;
+    /// kills it when it does not end. Whether it ended by itself.
+    template <typename Tick>
+    bool wait(double limit, Tick&& tick) {
+        ended_ = poll(limit, std::chrono::milliseconds(10), [&] {
+            tick();
+            return ::waitpid(pid_, &status_, WNOHANG) == pid_;
+        });
+        return ended_;
+    }
+    bool ended_with_success() const { return ended_ && WIFEXITED(status_) && WEXITSTATUS(status_) == 0; }
+
+private:
+    fs::path log_;
+    pid_t pid_ = 0;
+    int status_ = 0;
+    bool ended_ = false;
+};
+
 class Mpi : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -69,9 +121,13 @@ protected:
         return run_shell("cd '" + dir_.string() + "' && " + (ranks > 0 ? environment() + launcher(ranks) + " " : "") + caustica);
     }
 
-    std::string read(const std::string& name) const {
-        std::ifstream in(dir_ / name, std::ios::binary);
-        return {std::istreambuf_iterator<char>(in), {}};
+    std::string read(const std::string& name) const { return file_text(dir_ / name); }
+
+    /// `caustica render ARGS` on two ranks in the background, its output in log.txt.
+    Background start(const std::string& args) const {
+        return Background("cd '" + dir_.string() + "' && " + environment() + "exec " + launcher(2) + " '" + binary +
+                              "' render " + args,
+                          dir_ / "log.txt");
     }
     bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
 
@@ -135,40 +191,17 @@ TEST_F(Mpi, AnErrorOnOneRankStopsEveryRankWithThatRanksMessage) {
 TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
     // A progressive render of a thousand passes; mpirun gets SIGINT after a second, as from a
     // terminal, and passes it on. Every process ends within seconds, nothing is written.
-    const std::string log = (dir_ / "log.txt").string();
-    const std::string command = "cd '" + dir_.string() + "' && " + environment() + "exec " + launcher(2) + " '" + binary + "' render '" +
-                                box + "' -v --lores --integrator progressive --passes 1000 -o ctrl-c.pfm > '" + log + "' 2>&1";
-    const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
-    pid_t pid = 0;
-    ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ), 0);
+    Background run = start("'" + box + "' -v --lores --integrator progressive --passes 1000 -o ctrl-c.pfm");
+    ASSERT_GT(run.pid(), 0);
     // Wait until rank 0 renders (its -v line), then a little: the signal arrives mid-render.
-    for (int i = 0; i < 600; ++i) {
-        std::ifstream in(log);
-        const std::string text{std::istreambuf_iterator<char>(in), {}};
-        if (text.find("rendering ctrl-c.pfm") != std::string::npos) break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    Background::poll(30.0, std::chrono::milliseconds(50), [&] { return run.says("rendering ctrl-c.pfm"); });
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    ::kill(pid, SIGINT);
-    int status = 0;
+    ::kill(run.pid(), SIGINT);
     const auto t0 = std::chrono::steady_clock::now();
-    bool ended = false;
-    while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30)) {
-        if (::waitpid(pid, &status, WNOHANG) == pid) {
-            ended = true;
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    if (!ended) {
-        ::kill(pid, SIGKILL);
-        ::waitpid(pid, &status, 0);
-    }
-    ASSERT_TRUE(ended) << "mpirun did not end within 30 s of Ctrl-C";
+    ASSERT_TRUE(run.wait(30.0, [] {})) << "mpirun did not end within 30 s of Ctrl-C";
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::ifstream in(log);
-    const std::string output{std::istreambuf_iterator<char>(in), {}};
-    EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+    const std::string output = run.output();
+    EXPECT_FALSE(run.ended_with_success()) << output;
     EXPECT_FALSE(exists("ctrl-c.pfm")) << output;
     EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
     EXPECT_LT(seconds, 10.0) << output;
@@ -181,66 +214,42 @@ TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
     // SIGTERM to rank 1 alone while the classic tiles are handed out: rank 0 stops handing out
     // and rendering batches, so every rank ends well before the render would have (without
     // stopping, rank 0 renders the rest of the tiles alone), and nothing is written.
-    const std::string args = "' render '" CAUSTICA_SOURCE_DIR "/scenes/default.lua' -v --hires --caustic-num-photons 100000 --caustic-num-neighbours 100";
+    const std::string args = "'" CAUSTICA_SOURCE_DIR "/scenes/default.lua' -v --hires --caustic-num-photons 100000 "
+                             "--caustic-num-neighbours 100";
     // The time bound is checked in the plain build only (under the sanitizers everything is
     // slower in ways no bound survives; the run still checks what ends and what is written).
     const bool timed = !std::getenv("ASAN_OPTIONS") && !std::getenv("TSAN_OPTIONS");
     double whole = 0.0;
     if (timed) {
         const auto whole_start = std::chrono::steady_clock::now();
-        ASSERT_EQ(render(args.substr(9) + " -o whole.pfm", 2).code, 0);
+        ASSERT_EQ(render(args + " -o whole.pfm", 2).code, 0);
         whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
     }
-    const std::string log = (dir_ / "log.txt").string();
-    const std::string command = "cd '" + dir_.string() + "' && " + environment() + "exec " + launcher(2) + " '" +
-                                binary + args + " -o sigterm.pfm > '" + log + "' 2>&1";
-    const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
-    pid_t pid = 0;
-    ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ), 0);
+    Background run = start(args + " -o sigterm.pfm");
+    ASSERT_GT(run.pid(), 0);
     // Rank 1: the child of mpirun whose environment says so, once rank 0 renders (its -v line).
     pid_t rank1 = 0;
-    for (int i = 0; i < 600 && rank1 == 0; ++i) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        std::ifstream in(log);
-        const std::string text{std::istreambuf_iterator<char>(in), {}};
-        if (text.find("rendering sigterm.pfm") == std::string::npos) continue;
-        const CommandResult children = run_shell("pgrep -P " + std::to_string(pid));
-        std::istringstream pids(children.output);
-        for (pid_t child; pids >> child;) {
-            std::ifstream environment_file("/proc/" + std::to_string(child) + "/environ", std::ios::binary);
-            const std::string env{std::istreambuf_iterator<char>(environment_file), {}};
-            if (env.find(std::string("OMPI_COMM_WORLD_RANK=1") + '\0') != std::string::npos) rank1 = child;
-        }
-    }
+    Background::poll(30.0, std::chrono::milliseconds(50), [&] {
+        if (!run.says("rendering sigterm.pfm")) return false;
+        std::istringstream pids(run_shell("pgrep -P " + std::to_string(run.pid())).output);
+        for (pid_t child; pids >> child;)
+            if (file_text("/proc/" + std::to_string(child) + "/environ").find(std::string("OMPI_COMM_WORLD_RANK=1") + '\0') !=
+                std::string::npos)
+                rank1 = child;
+        return rank1 != 0;
+    });
     ASSERT_NE(rank1, 0) << "rank 1 not found";
     std::this_thread::sleep_for(std::chrono::milliseconds(500));  // into the tiles
     ::kill(rank1, SIGTERM);
     const auto t0 = std::chrono::steady_clock::now();
-    int status = 0;
-    bool ended = false;
+    auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     double said = -1.0;  // when rank 0 said it stopped (mpirun itself then takes ~2 s to end)
-    while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60)) {
-        if (said < 0.0) {
-            std::ifstream in(log);
-            const std::string text{std::istreambuf_iterator<char>(in), {}};
-            if (text.find("caustica: interrupted") != std::string::npos)
-                said = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        }
-        if (::waitpid(pid, &status, WNOHANG) == pid) {
-            ended = true;
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    if (!ended) {
-        ::kill(pid, SIGKILL);
-        ::waitpid(pid, &status, 0);
-    }
-    ASSERT_TRUE(ended);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::ifstream in(log);
-    const std::string output{std::istreambuf_iterator<char>(in), {}};
-    EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+    ASSERT_TRUE(run.wait(60.0, [&] {
+        if (said < 0.0 && run.says("caustica: interrupted")) said = since();
+    }));
+    const double seconds = since();
+    const std::string output = run.output();
+    EXPECT_FALSE(run.ended_with_success()) << output;
     EXPECT_FALSE(exists("sigterm.pfm")) << output;
     EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
     // Signalled about a second into a render of `whole` seconds: rank 0 stops after the batch in
@@ -249,5 +258,7 @@ TEST_F(Mpi, AnInterruptedWorkerStopsTheTileHandOutAtOnce) {
     std::printf("rank 0 stopped %.2f s after the signal, mpirun ended after %.2f s; a whole render takes %.2f s\n",
                 said, seconds, whole);
     EXPECT_GE(said, 0.0) << output;
-    if (timed) EXPECT_LT(said, 0.3 * whole) << output;
+    if (timed) {
+        EXPECT_LT(said, 0.3 * whole) << output;
+    }
 }
