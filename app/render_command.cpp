@@ -484,6 +484,22 @@ std::optional<RankFailure> failure_here(std::exception_ptr error, const Cluster&
     return failure_of(error, cluster.rank());
 }
 
+/// What every rank must render alike: each frame's job by content (computed once per gr.render:
+/// a scene's meshes are hashed whole) and its camera (orbit frames differ by it alone).
+std::uint64_t plan_fingerprint(const AnimationPlan& plan) {
+    std::uint64_t fingerprint = plan.frames.size();
+    std::map<int, std::uint64_t> by_job;
+    for (const AnimationFrame& frame : plan.frames) {
+        auto [it, fresh] = by_job.try_emplace(frame.job_index, 0);
+        if (fresh) it->second = job_content_fingerprint(frame.job);
+        fingerprint = hash_combine(fingerprint, it->second);
+        const CameraDesc& c = frame.job.camera;
+        for (double v : {c.eye.x, c.eye.y, c.eye.z, c.view.x, c.view.y, c.view.z, c.up.x, c.up.y, c.up.z, c.fovy_degrees})
+            fingerprint = hash_double(fingerprint, v);
+    }
+    return fingerprint;
+}
+
 /// -j as the frames have it (0: every core the process may use).
 int command_line_threads(const RenderPlan& plan) { return plan.plan.frames.front().job.options.threads; }
 
@@ -642,16 +658,7 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
     if (const std::optional<RankFailure> failure = cluster->agree(mine)) return report(*failure, *cluster);
     // Every rank must render the same jobs: the same binary on the same files with the same
     // options. A rank that loaded something else (a node with other files) says so.
-    std::uint64_t fingerprint = plan.plan.frames.size();
-    std::map<int, std::uint64_t> by_job;
-    for (const AnimationFrame& frame : plan.plan.frames) {
-        auto [it, fresh] = by_job.try_emplace(frame.job_index, 0);
-        if (fresh) it->second = job_content_fingerprint(frame.job);
-        fingerprint = hash_combine(fingerprint, it->second);
-        const CameraDesc& c = frame.job.camera;
-        for (double v : {c.eye.x, c.eye.y, c.eye.z, c.view.x, c.view.y, c.view.z, c.up.x, c.up.y, c.up.z, c.fovy_degrees})
-            fingerprint = hash_double(fingerprint, v);
-    }
+    const std::uint64_t fingerprint = plan_fingerprint(plan.plan);
     Cluster::Bytes first_fingerprint(sizeof fingerprint);
     std::memcpy(first_fingerprint.data(), &fingerprint, sizeof fingerprint);
     cluster->broadcast(first_fingerprint, 0);

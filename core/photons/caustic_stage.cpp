@@ -306,9 +306,7 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
         } catch (...) {
             error = std::current_exception();
         }
-        if (!error && cancel && cancel->load())
-            cluster->checkpoint(RankFailure{cluster->rank(), cluster_interrupted_code, "interrupted"});
-        cluster->checkpoint(error);
+        cluster->checkpoint(error, cancel);
         pass = gather_classic_photons(*cluster, std::move(pass), lights.size());
     }
     for (std::size_t l = 0; l < lights.size(); ++l) {

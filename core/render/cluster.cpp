@@ -33,8 +33,13 @@ RankFailure failure_of(std::exception_ptr error, int rank) {
     return f;
 }
 
-void Cluster::checkpoint(std::exception_ptr mine) {
-    checkpoint(mine ? std::optional<RankFailure>(failure_of(mine, rank())) : std::nullopt);
+void Cluster::checkpoint(std::exception_ptr mine, const std::atomic<bool>* cancel) {
+    std::optional<RankFailure> failure;
+    if (mine)
+        failure = failure_of(mine, rank());
+    else if (cancel && cancel->load())
+        failure = RankFailure{rank(), cluster_interrupted_code, "interrupted"};
+    checkpoint(failure);
 }
 
 void Cluster::checkpoint(const std::optional<RankFailure>& mine) {

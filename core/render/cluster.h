@@ -80,8 +80,9 @@ public:
     virtual std::optional<RankFailure> share_work(int count, int batch, const WorkFn& work, const CollectFn& collect,
                                                   const std::atomic<bool>* cancel) = 0;
 
-    /// Throws ClusterError on every rank when any rank failed (`mine`: this rank's error, if any).
-    void checkpoint(std::exception_ptr mine);
+    /// Throws ClusterError on every rank when any rank failed (`mine`: this rank's error, if any;
+    /// else, when `cancel` is set, this rank was interrupted). One agreement.
+    void checkpoint(std::exception_ptr mine, const std::atomic<bool>* cancel = nullptr);
     /// As checkpoint, with this rank's failure (or nothing) already made.
     void checkpoint(const std::optional<RankFailure>& mine);
 };

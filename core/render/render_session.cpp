@@ -47,7 +47,11 @@ std::uint64_t hash_index(std::uint64_t h, int index) {
 
 }  // namespace
 
-std::uint64_t geometry_fingerprint(const RenderJob& job) {
+namespace {
+
+/// What the BVH and materials depend on; meshes by address (a cache key within this process) or,
+/// `by_content`, by their vertices (the same in every process that loaded the same files).
+std::uint64_t hash_geometry(const RenderJob& job, bool by_content) {
     std::uint64_t h = hash_combine(0x6361757374696361ULL, static_cast<std::uint64_t>(job.root));
     h = hash_combine(h, (job.options.a4 ? 1 : 0) + (job.options.disable_csg_bb ? 2 : 0) + (job.options.disable_bv ? 4 : 0));
     const SceneDesc& scene = *job.scene;
@@ -73,25 +77,26 @@ std::uint64_t geometry_fingerprint(const RenderJob& job) {
         h = hash_combine(h, std::hash<std::string>{}(t.source));
         h = hash_combine(h, std::hash<std::string>{}(t.remap) + (t.procedural ? 1 : 0));
     }
-    for (const auto& mesh : scene.meshes) h = hash_combine(h, reinterpret_cast<std::uintptr_t>(mesh.get()));
+    for (const auto& mesh : scene.meshes) {
+        if (!by_content || !mesh) {
+            h = hash_combine(h, reinterpret_cast<std::uintptr_t>(mesh.get()));
+            continue;
+        }
+        h = hash_combine(h, mesh->positions.size() * 31 + mesh->triangles.size());
+        for (const glm::vec3& p : mesh->positions) h = hash_double(hash_double(hash_double(h, p.x), p.y), p.z);
+        for (const glm::uvec3& t : mesh->triangles)
+            h = hash_combine(h, (std::uint64_t(t.x) << 42) ^ (std::uint64_t(t.y) << 21) ^ t.z);
+        for (const glm::vec2& uv : mesh->texcoords) h = hash_double(hash_double(h, uv.x), uv.y);
+    }
     return h;
 }
 
+}  // namespace
+
+std::uint64_t geometry_fingerprint(const RenderJob& job) { return hash_geometry(job, false); }
+
 std::uint64_t job_content_fingerprint(const RenderJob& job) {
-    // The geometry's own fingerprint names meshes by address: hash their contents instead.
-    RenderJob without_meshes = job;
-    auto scene = std::make_shared<SceneDesc>(*job.scene);
-    std::uint64_t h = 0x636f6e74656e74ULL;
-    for (const auto& mesh : scene->meshes) {
-        if (!mesh) continue;
-        h = hash_combine(h, mesh->positions.size() * 31 + mesh->triangles.size());
-        for (const glm::vec3& p : mesh->positions) h = hash_double(hash_double(hash_double(h, p.x), p.y), p.z);
-        for (const glm::uvec3& t : mesh->triangles) h = hash_combine(h, (std::uint64_t(t.x) << 42) ^ (std::uint64_t(t.y) << 21) ^ t.z);
-        for (const glm::vec2& uv : mesh->texcoords) h = hash_double(hash_double(h, uv.x), uv.y);
-    }
-    scene->meshes.clear();
-    without_meshes.scene = scene;
-    h = hash_combine(h, geometry_fingerprint(without_meshes));
+    std::uint64_t h = hash_geometry(job, true);
     Options o = job.options;  // what does not change the image
     o.threads = 0;
     o.silent = o.verbose = o.timing = o.stats = false;
@@ -354,11 +359,6 @@ void RenderSession::run() {
     running_ = false;
 }
 
-std::optional<RankFailure> RenderSession::interruption() const {
-    if (!cancel_requested_) return std::nullopt;
-    return RankFailure{cluster_ ? cluster_->rank() : 0, cluster_interrupted_code, "interrupted"};
-}
-
 void RenderSession::run_distributed(tbb::task_arena& arena, int threads) {
     // Each step runs locally, then every rank says how it went: a failure on any rank stops them
     // all at the same point. (A ClusterError was agreed on by every rank already: passed on.)
@@ -378,8 +378,7 @@ void RenderSession::run_distributed(tbb::task_arena& arena, int threads) {
         } catch (...) {
             error = std::current_exception();
         }
-        if (!error && cancel_requested_) cluster_->checkpoint(interruption());
-        cluster_->checkpoint(error);
+        cluster_->checkpoint(error, &cancel_requested_);
     };
     step([&] { prepare_checked_scene(); });
     step([&] { prepare_caustics(); });
@@ -566,7 +565,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     }
     RayCounters rays = runner.total();
     if (distributed()) {  // what every rank traced
-        cluster_->checkpoint(interruption());
+        cluster_->checkpoint(nullptr, &cancel_requested_);
         for (std::uint64_t* count : {&rays.samples, &rays.supersampled_pixels, &rays.primary, &rays.shadow,
                                      &rays.reflected, &rays.refracted, &rays.gathers})
             *count = static_cast<std::uint64_t>(cluster_->all_sum(static_cast<long long>(*count)));
@@ -634,10 +633,10 @@ void RenderSession::render_distributed_classic(PassRunner& runner, TileContext& 
             progress_.pass = pass;
         }
         const double t0 = now_seconds();
-        cluster_->checkpoint(interruption());
+        cluster_->checkpoint(nullptr, &cancel_requested_);
         const Cluster::WorkFn work = [&](int first, int last) {
             runner.run_range(first, last, body);
-            if (cancel_requested_) throw ClusterError(*interruption());
+            if (cancel_requested_) throw ClusterError(RankFailure{cluster_->rank(), cluster_interrupted_code, "interrupted"});
             return tile_bytes(first, last);
         };
         const Cluster::CollectFn collect = [&](int first, int last, const Cluster::Bytes& bytes) {
@@ -667,8 +666,7 @@ void RenderSession::render_distributed_classic(PassRunner& runner, TileContext& 
     } catch (...) {
         error = std::current_exception();
     }
-    cluster_->checkpoint(interruption());
-    cluster_->checkpoint(error);
+    cluster_->checkpoint(error, &cancel_requested_);
     cluster_->broadcast(first, 0);
     if (first.size() != pixels * sizeof(glm::vec3) + pixels)
         throw std::runtime_error("the first pass from rank 0 has the wrong size");
@@ -693,8 +691,7 @@ ErrorEstimate RenderSession::combined_error() {
     } catch (...) {
         error = std::current_exception();
     }
-    cluster_->checkpoint(interruption());
-    cluster_->checkpoint(error);
+    cluster_->checkpoint(error, &cancel_requested_);
     cluster_->reduce_sum(all.sums());
     ErrorEstimate e;
     if (cluster_->rank() == 0) e = all.estimate_error();
@@ -863,7 +860,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
         }
         double round_seconds = now_seconds() - t0;
         if (shared) {  // the round's end: every rank's state, photons and time
-            cluster_->checkpoint(interruption());
+            cluster_->checkpoint(nullptr, &cancel_requested_);
             round_photons = cluster_->all_sum(round_photons);
             round_seconds = cluster_->all_max(round_seconds);
         }
@@ -912,7 +909,7 @@ void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& se
     }
     if (shared) {
         // Every rank's sums on rank 0, which makes the image and the estimate one process makes.
-        cluster_->checkpoint(interruption());
+        cluster_->checkpoint(nullptr, &cancel_requested_);
         cluster_->reduce_sum(accumulator_.sums());
         if (rank == 0) {
             acc.error = accumulator_.estimate_error();

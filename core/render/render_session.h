@@ -190,7 +190,6 @@ private:
     void run_distributed(tbb::task_arena& arena, int threads);  // run() with the other ranks
     bool distributed() const { return cluster_ && cluster_->size() > 1; }
     void render_distributed_classic(PassRunner& runner, TileContext& context);
-    std::optional<RankFailure> interruption() const;  // this rank's, when cancelled
     ErrorEstimate combined_error();  // the estimate from every rank's sums (collective)
     Cluster::Bytes tile_bytes(int first, int last) const;
     void put_tile_bytes(int first, int last, const Cluster::Bytes& bytes);
