@@ -113,25 +113,18 @@ TEST(ClassicEmission, CellsTileTheSphereWithNearlyEqualSolidAngles) {
     EXPECT_NEAR(total, 4.0 * pi, 1e-8);  // the cells cover the sphere exactly once
     std::printf("cell solid angle: min %.4g max %.4g (mean %.4g), ratio %.3f\n", smallest, largest,
                 4.0 * pi / classic_emission_cells, largest / smallest);
-    // Flat subdivision projected on the sphere: cells at a face's centre are larger than at its
-    // corners, 1.98 times (projecting each level's midpoints would give 1.30).
-    EXPECT_NEAR(largest / smallest, 1.984, 0.001);
+    // Midpoints pushed onto the sphere at every level: nearly even cells, the largest 1.301 times
+    // the smallest (projecting a flat subdivision only at the end would give 1.98).
+    EXPECT_NEAR(largest / smallest, 1.301, 0.001);
 }
 
-TEST(ClassicEmission, ShotCountIsAboutNMinusHalfTheCells) {
-    // floor(N a_T) drops the fractional part of every cell's share: about half a photon a cell,
-    // 655 360 in all. The fractions are not independent (the cells come in a few thousand shapes,
-    // each repeated 120 times by the icosahedron's symmetry), so the loss wanders around 655 360:
-    // allow 5%, which still tells this subdivision from one that projects every level's midpoints
-    // (944 640 and 563 200 lost at 8 M and 24 M).
-    for (long long n : {8'000'000LL, 24'000'000LL, 100'000'000LL}) {
-        const long long offered = classic_photons_offered(n);
-        std::printf("N %lld: offered %lld, N - offered %lld\n", n, offered, n - offered);
-        EXPECT_NEAR(static_cast<double>(n - offered), 655360.0, 0.05 * 655360.0) << n;
-    }
-    // The original's shortfall (B4): 8% at 8 M, 2.7% at 24 M.
-    EXPECT_NEAR(1.0 - classic_photons_offered(8'000'000) / 8e6, 0.08, 0.002);
-    EXPECT_NEAR(1.0 - classic_photons_offered(24'000'000) / 24e6, 0.027, 0.001);
+TEST(ClassicEmission, ShotCountsAreTheOriginalsExactly) {
+    // floor(N a_T) summed over the geodesic cells: the totals the original shot (B4), to the
+    // photon. A flat subdivision projected at the end gives other totals (2 035 060 at 2 621 440).
+    EXPECT_EQ(classic_photons_offered(2'621'440), 1'638'400);
+    EXPECT_EQ(classic_photons_offered(4'000'000), 3'041'280);
+    EXPECT_EQ(classic_photons_offered(8'000'000), 7'055'360);
+    EXPECT_EQ(classic_photons_offered(24'000'000), 23'436'800);
     // Below one photon per cell the literal floor would shoot nothing under N = 1 / (largest a_T)
     // = 1 086 326 (the default --gi-num-photons included): there each cell's share is rounded at
     // random, so about N are shot. A sum of 1 310 720 roundings has a standard deviation below
@@ -145,6 +138,8 @@ TEST(ClassicEmission, ShotCountIsAboutNMinusHalfTheCells) {
     EXPECT_EQ(static_cast<long long>(std::ceil(1.0 / largest)), 1086326);
     for (long long n : {1'000LL, 1'000'000LL, classic_emission_cells - 1})
         EXPECT_NEAR(static_cast<double>(classic_photons_offered(n)), static_cast<double>(n), 5.0 * 572.0) << n;
+    // From one photon per cell on, the literal floor: a quarter of the cells reach 1.
+    EXPECT_EQ(classic_photons_offered(classic_emission_cells), 327'680);
 }
 
 TEST(ClassicEmission, ThePassTracesEveryPhotonTheCellsOffer) {

@@ -23,18 +23,17 @@ namespace {
 constexpr double pi = 3.14159265358979323846;
 
 // Emission cells (B4). The original split the sphere into the 1 310 720 triangles of an
-// icosahedron whose faces were subdivided 8 times (each triangle into four at its edge midpoints)
-// and then projected on the sphere, and shot floor(N a_T) photons in each, a_T the projected
-// triangle's share of the sphere. We do the same without storing the triangles: a cell is named by
-// its face and the child taken at each level (corner a, b, c or the middle), and its flat vertices
-// are found by descending from the face. Midpoints stay on the flat face until the end, as the
-// original's: projecting them at every level instead gives more even cells (max/min solid angle
-// 1.30 rather than 1.98) whose floor(N a_T) loses 944 640 photons at N = 8 M and 563 200 at 24 M,
-// where the original lost 8% and 2.7% (627 960 and 659 800 here).
+// icosahedron whose faces were subdivided 8 times, each triangle into four at its edge midpoints,
+// every midpoint pushed onto the unit sphere as soon as it was made (a geodesic subdivision: the
+// largest cell's solid angle is 1.30 times the smallest's), and shot floor(N a_T) photons in each,
+// a_T the cell's share of the sphere. We do the same without storing the triangles: a cell is
+// named by its face and the child taken at each level (corner a, b, c or the middle), and its
+// vertices are found by descending from the face.
 // The photons are shot from blocks of 4^5 cells (a level-3 triangle each, 1280 blocks), walked
 // depth first. Inside a cell the direction is uniform in solid angle: a point p uniform on the flat
-// cell, projected, has density proportional to |p|^3, so it is accepted with probability
-// (r / |p|)^3, r a lower bound of |p| over the cell (nearly every point is accepted at once).
+// triangle through the cell's vertices, projected, has density proportional to |p|^3, so it is
+// accepted with probability (r / |p|)^3, r a lower bound of |p| over the triangle (nearly every
+// point is accepted at once).
 constexpr int block_levels = 5;  // levels walked inside a block
 constexpr int top_levels = classic_emission_levels - block_levels;
 constexpr long long cells_per_block = 1LL << (2 * block_levels);
@@ -78,10 +77,10 @@ const Icosahedron& icosahedron() {
     return shape;
 }
 
-/// One subdivision step of a flat triangle: the child `digit` (0, 1, 2: at corner a, b, c; 3: the
-/// middle one), cut at the edge midpoints.
+/// One subdivision step of a triangle with unit vertices: the child `digit` (0, 1, 2: at corner
+/// a, b, c; 3: the middle one), cut at the edge midpoints pushed onto the unit sphere.
 void subdivide(glm::dvec3& a, glm::dvec3& b, glm::dvec3& c, int digit) {
-    const glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+    const glm::dvec3 ab = glm::normalize(a + b), bc = glm::normalize(b + c), ca = glm::normalize(c + a);
     switch (digit) {
         case 0: b = ab, c = ca; break;
         case 1: a = ab, c = bc; break;
@@ -90,7 +89,7 @@ void subdivide(glm::dvec3& a, glm::dvec3& b, glm::dvec3& c, int digit) {
     }
 }
 
-/// The flat triangle named by the `levels` digits of `prefix` (a face index then base-4 digits).
+/// The triangle named by the `levels` digits of `prefix` (a face index then base-4 digits).
 void descend(long long prefix, int levels, glm::dvec3& a, glm::dvec3& b, glm::dvec3& c) {
     const Icosahedron& ico = icosahedron();
     const auto& face = ico.faces[static_cast<std::size_t>(prefix >> (2 * levels))];
@@ -98,7 +97,7 @@ void descend(long long prefix, int levels, glm::dvec3& a, glm::dvec3& b, glm::dv
     for (int level = levels - 1; level >= 0; --level) subdivide(a, b, c, static_cast<int>((prefix >> (2 * level)) & 3));
 }
 
-/// Calls visit(cell, a, b, c) for every flat cell under the triangle (a, b, c), `levels` further
+/// Calls visit(cell, a, b, c) for every cell under the triangle (a, b, c), `levels` further
 /// down, in cell order; `cell` is the triangle's prefix.
 template <class Visit>
 void visit_cells(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int levels, long long cell,
@@ -122,9 +121,9 @@ void visit_block(int block, Visit& visit) {
     visit_cells(a, b, c, block_levels, block, visit);
 }
 
-/// Solid angle of the flat cell (a, b, c) seen from the centre.
+/// Solid angle of the cell with unit vertices (a, b, c).
 double cell_solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    return spherical_triangle_solid_angle(glm::normalize(a), glm::normalize(b), glm::normalize(c));
+    return spherical_triangle_solid_angle(a, b, c);
 }
 
 /// floor(N a_T) for a cell of solid angle `omega` (B4). Below one photon per cell (N under
