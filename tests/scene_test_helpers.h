@@ -6,6 +6,7 @@
 #include "core/geometry/shapes.h"
 #include "core/lua/scene_loader.h"
 #include "core/scene/source_location.h"
+#include "temp_folder.h"
 
 #include <string>
 
@@ -19,6 +20,16 @@ inline std::string load_error(const std::string& path, const LoadSettings& setti
         return e.what();
     }
     return "(no error)";
+}
+
+/// The first gr.render of a script given as text (written to a temporary folder and loaded as
+/// `caustica render` loads it), with --reproducible and --silent on.
+inline RenderJob load_first_job(const std::string& source) {
+    TempFolder folder("caustica_scene");
+    RenderJob job = load_scene_script(folder.write("scene.lua", source)).renders.at(0);
+    job.options.reproducible = true;
+    job.options.silent = true;
+    return job;
 }
 
 /// A hit at object point p of an analytic shape placed with object space = world space, as

@@ -7,6 +7,7 @@
 #include "core/photons/classic_photons.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene_flatten.h"
+#include "scene_test_helpers.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +15,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <string>
 
 using namespace caustica;
 using caustica::testing::JobBuilder;
@@ -250,4 +253,39 @@ TEST(ClassicTransport, ProjectionMapSkipsCellsWithoutChangingThePhotons) {
     EXPECT_GT(on.size(), 10000u);
     EXPECT_EQ(on, off);
     EXPECT_LT(traced_on, traced_off / 2);  // the map kept the directions towards the mirror only
+}
+
+// The original accepts --draw-caustic-prm and renders exactly as without it; scenes set it.
+TEST(ClassicDebugViews, DrawCausticPrmChangesNothingAndShowProjectionMapTints) {
+    for (const char* integrator : {"classic", "progressive"}) {
+        const std::string scene = std::string(R"(
+gr.option('--integrator )") + integrator + R"( --caustic-num-photons 200000')
+glass = gr.material({0, 0, 0}, {0.9, 0.9, 0.9}, 20)
+glass:set_ri(1.5)
+ball = gr.nh_sphere('ball', {0, 1, 0}, 1)
+ball:set_material(glass)
+floor = gr.cube('floor')
+floor:translate(0, -1, 0)
+floor:scale(10, 1, 10)
+floor:set_material(gr.material({0.8, 0.8, 0.8}, {0, 0, 0}, 0))
+root = gr.node('root')
+root:add_child(floor)
+root:add_child(ball)
+)";
+        const std::string render = "gr.render(root, 'x.png', 24, 24, {0, 4, 6}, {0, -4, -6}, {0, 1, 0}, 40, {0.2, 0.2, 0.2}, "
+                                   "{gr.light({2, 6, 1}, {1, 1, 1}, {0, 0, 0.05})})\n";
+        const Image plain = caustica::testing::render(caustica::testing::load_first_job(scene + render));
+        const Image flagged = caustica::testing::render(caustica::testing::load_first_job(scene + "gr.option('--draw-caustic-prm')\n" + render));
+        ASSERT_EQ(plain.width, flagged.width);
+        for (int y = 0; y < plain.height; ++y)
+            for (int x = 0; x < plain.width; ++x)
+                ASSERT_EQ(std::memcmp(&plain.at(x, y), &flagged.at(x, y), sizeof(glm::vec3)), 0)
+                    << integrator << " " << x << "," << y;
+        // Our own flag does tint what the projection maps aim at.
+        const Image shown = caustica::testing::render(caustica::testing::load_first_job(scene + "gr.option('--show-projection-map')\n" + render));
+        int differ = 0;
+        for (int y = 0; y < plain.height; ++y)
+            for (int x = 0; x < plain.width; ++x) differ += plain.at(x, y) != shown.at(x, y);
+        EXPECT_GT(differ, 0) << integrator;
+    }
 }

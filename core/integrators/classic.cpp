@@ -128,7 +128,7 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
     if (setup_.caustic_map && setup_.caustic_map->size() > min_caustic_photons && receives)
         colour = saturate_signed(colour + photon_estimate(*setup_.caustic_map, hit.position, setup_.caustic_neighbours,
                                                           counters) * n_dot_v);
-    // --draw-caustic-prm: tint the surface green where a light's projection map is occupied.
+    // --show-projection-map: tint the surface green where a light's projection map is occupied.
     for (const auto& [map, light] : setup_.projection_maps) {
         const glm::vec3 d = hit.position - light;
         const float length = glm::length(d);

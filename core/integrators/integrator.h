@@ -54,7 +54,7 @@ struct ShadingSetup {
     bool draw_gi_only = false;
     bool draw_gi_map = false;
     float dot_radius_per_distance = 0.0f;  ///< progressive dots: a dot's radius per unit of ray distance
-    /// --draw-caustic-prm: per light, the projection map (null when not built) and its position.
+    /// --show-projection-map: per light, the projection map (null when not built) and its position.
     std::vector<std::pair<const ProjectionMap*, glm::vec3>> projection_maps;
 };
 

@@ -185,7 +185,7 @@ glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const g
 }
 
 glm::vec3 ProgressiveIntegrator::debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const {
-    // --draw-caustic-prm: tint the surface green where a light's projection map is occupied.
+    // --show-projection-map: tint the surface green where a light's projection map is occupied.
     for (const auto& [map, light] : setup_.projection_maps) {
         const glm::vec3 d = hit.position - light;
         const float length = glm::length(d);

@@ -26,7 +26,7 @@ bool caustic_map_wanted(const RenderJob& job) {
     // Progressive --gi: one map of every path with a bounce, whatever the materials (issue 11).
     if (o.integrator == IntegratorKind::progressive && o.gi_wanted()) return o.gi_num_photons > 0;
     if (o.no_caustic_map) return false;
-    if (o.caustic_num_photons <= 0 && !o.draw_caustic_prm) return false;
+    if (o.caustic_num_photons <= 0 && !o.show_projection_map) return false;
     for (const NodeDesc& node : job.scene->nodes)
         if (node.material >= 0 && is_specular(job.scene->materials[node.material])) return true;
     return false;
@@ -71,7 +71,7 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
     h = hash_double(h, o.unit_distance);
     h = hash_double(h, o.energy_fudge);
     h = hash_double(h, static_cast<double>(o.projection_map) * 1e6 + o.caustic_pm_gran);
-    h = hash_double(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.draw_caustic_prm ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0));
+    h = hash_double(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.show_projection_map ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0));
     h = hash_double(h, static_cast<double>(o.seed));
     h = hash_double(h, o.max_depth);
     h = hash_double(h, static_cast<double>(o.integrator));
@@ -288,7 +288,7 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
     settings.energy_fudge = o.energy_fudge;
     settings.projection_map = o.projection_map;
     settings.projection_map_granularity = o.caustic_pm_gran;
-    settings.build_projection_maps = caustic_map_wanted(job) && o.draw_caustic_prm;
+    settings.build_projection_maps = caustic_map_wanted(job) && o.show_projection_map;
     settings.seed = stage_seed(o);
     ClassicPhotonResult pass;
     if (!cluster) {

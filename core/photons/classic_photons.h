@@ -49,7 +49,7 @@ struct ClassicPhotonSettings {
     double energy_fudge = 1.0;
     ProjectionMapMode projection_map = ProjectionMapMode::automatic;  ///< off disables it, else used
     int projection_map_granularity = 180;
-    bool build_projection_maps = false;  ///< build them even without caustic photons (--draw-caustic-prm)
+    bool build_projection_maps = false;  ///< build them even without caustic photons (--show-projection-map)
     std::uint64_t seed = 0;
     double memory_budget_bytes = 0.0;  ///< as PhotonPassSettings
     /// Several ranks (issue 13): this rank shoots the emission blocks b with b % share_size ==

@@ -525,7 +525,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     ShadingSetup setup = make_setup();
     if (caustics_ && caustics_->map) setup.caustic_map = caustics_->map.get();
     if (caustics_ && caustics_->gi_map) setup.gi_map = caustics_->gi_map.get();
-    if (options.draw_caustic_prm && caustics_)
+    if (options.show_projection_map && caustics_)
         for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
             if (!caustics_->projection_maps[l].empty())
                 setup.projection_maps.emplace_back(&caustics_->projection_maps[l], caustics_->light_positions[l]);

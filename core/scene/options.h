@@ -34,7 +34,8 @@ struct Options {
     bool disable_csg_bb = false;
     bool draw_aa = false;          ///< mark supersampled pixels
     bool draw_caustic_map = false;
-    bool draw_caustic_prm = false;
+    bool draw_caustic_prm = false;   ///< the original's flag: accepted, changes nothing (its renders were plain)
+    bool show_projection_map = false;  ///< tint what the projection maps aim photons at
     bool draw_caustics_only = false;
     bool no_caustic_map = false;
     bool no_soft_shadows = false;
