@@ -1,6 +1,7 @@
 // The classic integrator's photon terms (SEED_BEHAVIOUR.md B4-B6) end to end: the caustic of a
-// known scene against the closed form the rules give, the gates of the estimate, the GI term,
-// each debug view on photons placed by hand, and switching integrator in a session.
+// known scene against the closed form the rules give, the gates of the estimate, the GI term and
+// the GI map of a closed room, each debug view on photons placed by hand, and switching
+// integrator in a session.
 #include "core/geometry/render_scene.h"
 #include "core/integrators/classic.h"
 #include "core/photons/caustic_stage.h"
@@ -15,7 +16,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <random>
 #include <string>
 
 using namespace caustica;
@@ -288,4 +291,94 @@ root:add_child(ball)
             for (int x = 0; x < plain.width; ++x) differ += plain.at(x, y) != shown.at(x, y);
         EXPECT_GT(differ, 0) << integrator;
     }
+}
+
+namespace {
+
+/// Light at the centre of a closed sphere of radius 1 whose inside is diffuse grey `rho`.
+std::string sphere_room(double rho) {
+    char text[1024];
+    std::snprintf(text, sizeof text, R"(
+gr.option('--gi --gi-num-photons 2621440')
+room = gr.sphere('room')
+room:set_material(gr.material({%.17g, %.17g, %.17g}, {0, 0, 0}, 0))
+root = gr.node('root')
+root:add_child(room)
+gr.render(root, 'x.png', 4, 4, {0, 0, 0.5}, {0, 0, -1}, {0, 1, 0}, 30, {0, 0, 0},
+          {gr.light({0, 0, 0}, {1, 1, 1}, {0, 0, 1})})
+)",
+                  rho, rho, rho);
+    return text;
+}
+
+/// The share of the emitted energy the GI map stores in a closed diffuse sphere with the light at
+/// its centre, by B4: a photon hits the wall at normal incidence, chooses diffuse with P = rho
+/// (power x rho, not divided by P) and leaves at angle alpha from the mirror direction, sin alpha
+/// uniform; every later hit stores power x rho, and hits 1..13 are all it makes. In a sphere the
+/// next hit's incidence equals the leaving angle, so only the angle to the normal matters:
+/// cos b' = cos a cos b + sin a sin b cos phi. A direction with cos b' < 0 leaves the sphere
+/// (`clipped`: mirrored back in). Integrated here by an independent Monte Carlo.
+double gi_share(double rho, bool clipped) {
+    std::mt19937_64 rng(42);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const int chains = 400000;
+    std::vector<double> alive(14, 0.0);  // alive[k]: chains whose path reaches hit k (k >= 2)
+    for (int c = 0; c < chains; ++c) {
+        double cos_b = std::sqrt(1.0 - std::pow(u(rng), 2.0));  // first bounce about the normal
+        alive[2] += 1.0;
+        for (int k = 3; k <= 13; ++k) {
+            const double sin_a = u(rng), phi = 2.0 * pi * u(rng);
+            const double cos_a = std::sqrt(1.0 - sin_a * sin_a), sin_b = std::sqrt(std::max(0.0, 1.0 - cos_b * cos_b));
+            double next = cos_a * cos_b + sin_a * sin_b * std::cos(phi);
+            if (next < 0.0) {
+                if (!clipped) break;
+                next = -next;
+            }
+            cos_b = next;
+            alive[k] += 1.0;
+        }
+    }
+    // Hit k >= 2 is reached after k - 1 diffuse choices (odds rho each) and stores rho^k.
+    double share = 0.0;
+    for (int k = 2; k <= 13; ++k) share += alive[k] / chains * std::pow(rho, k - 1) * std::pow(rho, k);
+    return share;
+}
+
+}  // namespace
+
+// B4: the diffuse lobe is not clipped. In a closed grey sphere around the light, the GI map's
+// stored power, and the GI estimate anywhere on the wall (the photons lie evenly: total over
+// 4 pi R^2), follow the unclipped lobe; turning directions back would keep several percent more.
+TEST(ClassicGlobalIllumination, AClosedRoomLosesWhatTheUnclippedLobeSendsIntoTheWall) {
+    const double rho = 0.8;
+    const RenderJob job = caustica::testing::load_first_job(sphere_room(rho));
+    ClassicPhotonSettings s;
+    s.gi_photons = job.options.gi_num_photons;
+    s.seed = 9;
+    const ClassicPhotonResult r = shoot_classic_photons(RenderScene(*job.scene, flatten_scene(*job.scene, job.root, false)), nullptr, job_lights(job), s, nullptr);
+    const double energy = 4.0 * pi / static_cast<double>(s.gi_photons);  // per photon, C = c2 = d_u = 1
+    const double shot = static_cast<double>(classic_photons_offered(s.gi_photons));
+    double total = 0.0;
+    for (const Photon& p : r.gi) total += p.power.x;
+    const double measured = total / (shot * energy);
+    const double unclipped = gi_share(rho, false), clipped = gi_share(rho, true);
+    std::printf("GI stored share: %.4f measured, %.4f unclipped lobe, %.4f clipped\n", measured, unclipped, clipped);
+    EXPECT_NEAR(measured, unclipped, 0.005 * unclipped);
+    EXPECT_GT(clipped / unclipped, 1.03);  // the two rules are told apart
+
+    // The estimate over 100 neighbours, averaged over points of the wall, is that power spread
+    // evenly over the sphere's area.
+    PhotonMap map(r.gi);
+    std::vector<Neighbour> scratch(100);
+    std::mt19937 rng(1);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    double sum = 0.0;
+    const int points = 400;
+    for (int i = 0; i < points; ++i) {
+        const glm::vec3 p = glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
+        sum += map.classic_estimate(p, 100, 0.15f, scratch.data()).value.x;
+    }
+    const double expected = unclipped * shot * energy / (4.0 * pi);
+    std::printf("GI estimate on the wall: %.5f, expected %.5f\n", sum / points, expected);
+    EXPECT_NEAR(sum / points, expected, 0.03 * expected);
 }

@@ -295,11 +295,8 @@ glm::vec3 classic_diffuse_direction(const glm::vec3& incoming, const glm::vec3& 
     const glm::vec3 t2(b, sign + mirror.y * mirror.y * a, -mirror.y);
     const float sin_alpha = u1, cos_alpha = std::sqrt(std::fmax(0.0f, 1.0f - u1 * u1));
     const float azimuth = 2.0f * static_cast<float>(pi) * u2;
-    glm::vec3 d = cos_alpha * mirror + sin_alpha * (std::cos(azimuth) * t1 + std::sin(azimuth) * t2);
-    const float height = glm::dot(d, normal);
-    if (height < 0.0f) d -= 2.0f * height * normal;  // below the surface: mirrored in its plane
-    if (!(glm::dot(d, normal) > 0.0f)) return mirror;  // exactly in the plane: leave along the mirror
-    return glm::normalize(d);
+    const glm::vec3 d = cos_alpha * mirror + sin_alpha * (std::cos(azimuth) * t1 + std::sin(azimuth) * t2);
+    return glm::normalize(d);  // below the surface it goes on into the solid (B4: the lobe is not clipped)
 }
 
 bool classic_projection_target(const Material& m) { return classic_luma(m.ks) > classic_projection_ks_luma; }

@@ -104,8 +104,8 @@ void classic_emission_cell(long long cell, glm::dvec3& a, glm::dvec3& b, glm::dv
 double spherical_triangle_solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
 
 /// B4 diffuse direction: at angle alpha from the mirror direction of unit `incoming` about unit
-/// `normal` (facing against `incoming`), with sin(alpha) = u1 and azimuth 2 pi u2. A direction that
-/// would point below the surface is mirrored in the surface plane (no new random numbers).
+/// `normal` (facing against `incoming`), with sin(alpha) = u1 and azimuth 2 pi u2. The lobe is not
+/// clipped: a direction below the surface is returned as it is (the photon goes on into the solid).
 glm::vec3 classic_diffuse_direction(const glm::vec3& incoming, const glm::vec3& normal, float u1, float u2);
 
 /// B4 projection-map test: a direction is used when its first hit has Y(ks) > 0.2.
