@@ -1,5 +1,6 @@
 #include "core/integrators/classic.h"
 
+#include "core/shading/classic_interface.h"
 #include "core/shading/optics.h"
 #include "core/util/radiance_range.h"
 
@@ -149,7 +150,6 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
     }
     const glm::vec3 to_eye = -ray.direction;
     const float eps = setup_.scene->epsilon();
-    const glm::vec3 materials_ks = m.air ? glm::vec3(1.0f) : m.ks;  // gr.air() is a pure interface
 
     if (!m.transparent) {
         glm::vec3 colour = surface_colour(m, hit, n, to_eye, kd, m.ks, known_visibility, counters);
@@ -162,29 +162,23 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
         return colour;
     }
 
-    // A6/B1: the media on either side. A CSG surface names them; a plain object is its own
-    // material inside and air outside, and colours the segments on both sides with its own ks.
-    const bool entering = glm::dot(hit.normal, ray.direction) < 0.0f;
+    // A6/B1: the regions on either side (a CSG surface names them; a plain object is its own
+    // material inside and air outside), and the material entered, whose ks weights both the
+    // reflected and the transmitted ray: total internal reflection against air costs nothing.
     const auto& materials = setup_.scene->materials();
-    const int inside = hit.in_csg ? hit.medium_inside : hit.material;
-    const int outside = hit.in_csg ? hit.medium_outside : -1;
-    const int near_side = entering ? outside : inside, far_side = entering ? inside : outside;
-    const auto index = [&](int material) { return material < 0 ? 1.0f : materials[material].refractive_index; };
-    const auto tint = [&](int material) {
-        return material < 0 || materials[material].air ? glm::vec3(1.0f) : materials[material].ks;
-    };
-    const glm::vec3 segment_ks = hit.in_csg ? tint(far_side) : tint(hit.material);
-    const float n1 = index(near_side), n2 = index(far_side);
-    const glm::vec3 facing = entering ? n : -n;  // refraction needs the side the ray arrives on
+    const ClassicInterface side = classic_interface(materials, hit, ray.direction);
+    const glm::vec3 ks_to = classic_ks(materials, side.entered);
+    const float n1 = classic_index(materials, side.near_side), n2 = classic_index(materials, side.far_side);
+    const glm::vec3 facing = side.entering ? n : -n;  // refraction needs the side the ray arrives on
     const float reflectance = fresnel_reflectance(n1, n2, glm::dot(facing, to_eye));
 
     glm::vec3 colour = surface_colour(m, hit, n, to_eye, kd, reflectance * m.ks, known_visibility, counters);
-    const glm::vec3 ks_cut = glm::min(materials_ks, glm::vec3(1.0f));  // ks > 1 must not lift the cut
+    const glm::vec3 ks_cut = glm::min(ks_to, glm::vec3(1.0f));  // ks > 1 must not lift the cut
     const float reflect_weight = weight * luma(reflectance * ks_cut);
     if (reflect_weight > min_weight) {
         ++counters.reflected;
         const Ray reflected{hit.position, glm::reflect(ray.direction, facing), eps, ray_infinity};
-        colour = saturate_signed(colour + reflectance * materials_ks *
+        colour = saturate_signed(colour + reflectance * ks_to *
                                               trace(reflected, depth + 1, reflect_weight, counters).colour);
     }
     const float transmit_weight = weight * luma((1.0f - reflectance) * ks_cut);
@@ -194,7 +188,7 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
         ++counters.refracted;
         const Traced through = trace(Ray{hit.position, direction, eps, ray_infinity}, depth + 1, transmit_weight, counters);
         colour = saturate_signed(colour + (1.0f - reflectance) *
-                                              segment_transmittance(segment_ks, through.distance, setup_.unit_distance) *
+                                              segment_transmittance(ks_to, through.distance, setup_.unit_distance) *
                                               through.colour);
     }
     return colour;

@@ -1,8 +1,9 @@
 // The classic integrator: the original renderer's light transport, rule for rule
 // (SEED_BEHAVIOUR.md Part B). It is not physically consistent and is not meant to be: it exists
 // so that a scene written for the original renders as its author saw it. In short:
-//   B1 view rays weighted by luma, cut below 0.02; depth above 15 returns white; transmitted
-//      segments coloured ks^(d/d_u) by the object's own material (or the CSG interface's).
+//   B1 view rays weighted by luma, cut below 0.02; depth above 15 returns white; reflected and
+//      transmitted rays weighted by the ks of the material entered (core/shading/classic_interface.h):
+//      the far side of a CSG interface (air outside), a plain object's own on both sides.
 //   B2 regular N x N shadow grid over a spherical light, no jitter.
 //   B3 four-corner anti-aliasing (the tile renderer, PixelSampling::corner_grid).
 //   B5 caustic term E (n.v) from the k photons the always-k search returns, gated by > 50 photons

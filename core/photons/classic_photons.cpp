@@ -1,6 +1,6 @@
 #include "core/photons/classic_photons.h"
 
-#include "core/shading/medium_stack.h"
+#include "core/shading/classic_interface.h"
 #include "core/shading/optics.h"
 #include "core/shading/texture.h"
 #include "core/util/denormals.h"
@@ -196,9 +196,28 @@ bool cell_may_reach_map(const ProjectionMap& map, const glm::dvec3& a, const glm
 /// The diffuse choice, the specular one or absorption, by the cumulative luma odds (B4).
 enum class Choice { diffuse, specular, absorbed };
 
-Choice choose(const Material& m, const glm::vec3& kd, RandomStream& random) {
+/// What a photon sees of the material it enters (B4): air (the outside or gr.air()) has kd = 0,
+/// ks = 1 and is transparent.
+struct EnteredSurface {
+    glm::vec3 kd{0.0f}, ks{1.0f};
+    bool reflective = false, transparent = true;
+};
+
+EnteredSurface entered_surface(const std::vector<Material>& materials, const TextureSet* textures, int entered,
+                               const SurfaceHit& hit) {
+    EnteredSurface s;
+    if (classic_is_air(materials, entered)) return s;
+    const Material& m = materials[static_cast<std::size_t>(entered)];
+    s.kd = textures ? textures->diffuse(entered, hit, m.kd) : m.kd;
+    s.ks = m.ks;
+    s.reflective = m.reflective;
+    s.transparent = m.transparent;
+    return s;
+}
+
+Choice choose(const EnteredSurface& m, RandomStream& random) {
     const double xi = random.uniform();
-    const double p_diffuse = classic_luma(kd);
+    const double p_diffuse = classic_luma(m.kd);
     if (xi < p_diffuse) return Choice::diffuse;
     const double p_specular = (m.reflective || m.transparent) ? classic_luma(m.ks) : 0.0;
     return xi < p_diffuse + p_specular ? Choice::specular : Choice::absorbed;
@@ -295,45 +314,41 @@ glm::vec3 classic_diffuse_direction(const glm::vec3& incoming, const glm::vec3& 
     const glm::vec3 t2(b, sign + mirror.y * mirror.y * a, -mirror.y);
     const float sin_alpha = u1, cos_alpha = std::sqrt(std::fmax(0.0f, 1.0f - u1 * u1));
     const float azimuth = 2.0f * static_cast<float>(pi) * u2;
-    const glm::vec3 d = cos_alpha * mirror + sin_alpha * (std::cos(azimuth) * t1 + std::sin(azimuth) * t2);
+    glm::vec3 d = cos_alpha * mirror + sin_alpha * (std::cos(azimuth) * t1 + std::sin(azimuth) * t2);
     return glm::normalize(d);  // below the surface it goes on into the solid (B4: the lobe is not clipped)
 }
 
-bool classic_projection_target(const Material& m) { return classic_luma(m.ks) > classic_projection_ks_luma; }
+bool classic_projection_target(const Material& m) {
+    return m.air || classic_luma(m.ks) > classic_projection_ks_luma;  // air counts with ks = 1
+}
 
 int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, ClassicMapKind kind, Ray ray,
                          glm::vec3 power, RandomStream& random, std::vector<Photon>& out) {
     const auto& materials = scene.materials();
     const float eps = scene.epsilon();
-    MediumStack media;  // decides the indices at a dielectric, CSG interfaces included
     bool after_specular = false, after_diffuse = false;
-    int hits = 0, air_crossings = 0;
+    int hits = 0;
     while (hits < classic_max_hits) {
         SurfaceHit hit;
         if (!scene.intersect(ray, hit)) break;
-        const Material& m = materials[hit.material];
-        if (m.air) {  // gr.air() is an empty medium: crossing it changes nothing (A6)
-            if (++air_crossings > 64) break;
-            media = medium_transition(hit, ray.direction, media).after;
-            ray = Ray{hit.position, ray.direction, eps, ray_infinity};
-            continue;
-        }
-        ++hits;
-        const glm::vec3 kd = textures ? textures->diffuse(hit.material, hit, m.kd) : m.kd;
+        ++hits;  // every surface counts, gr.air() ones included
+        // The odds, the power and what is stored all come from the material entered (B4, as B1).
+        const ClassicInterface side = classic_interface(materials, hit, ray.direction);
+        const EnteredSurface m = entered_surface(materials, textures, side.entered, hit);
         // Storing looks at what came before this hit, whatever the hit chooses next.
         if (kind == ClassicMapKind::caustic && after_specular) {
-            const glm::vec3 stored = saturate(power * kd);
+            const glm::vec3 stored = saturate(power * m.kd);
             if (classic_luma(stored) > 0.0) out.push_back({hit.position, stored, ray.direction});
-        } else if (kind == ClassicMapKind::gi && after_diffuse) {
-            out.push_back({hit.position, saturate(power * kd), ray.direction});
+        } else if (kind == ClassicMapKind::gi && after_diffuse && !classic_is_air(materials, side.entered)) {
+            out.push_back({hit.position, saturate(power * m.kd), ray.direction});
         }
-        const Choice choice = choose(m, kd, random);
+        const Choice choice = choose(m, random);
         if (choice == Choice::absorbed) break;
-        const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
+        const glm::vec3 n = side.entering ? hit.normal : -hit.normal;  // faces the photon
         if (choice == Choice::diffuse) {
             if (kind == ClassicMapKind::caustic) break;  // a caustic path holds no diffuse bounce
             after_diffuse = true;
-            power = saturate(power * kd);  // not divided by P(diffuse): B4
+            power = saturate(power * m.kd);  // not divided by P(diffuse): B4
             const float u1 = random.uniform(), u2 = random.uniform();
             ray = Ray{hit.position, classic_diffuse_direction(ray.direction, n, u1, u2), eps, ray_infinity};
             continue;
@@ -344,24 +359,14 @@ int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, C
             ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
             continue;
         }
-        // The media as the classic view rays see them (B1): a CSG surface names both sides; a
-        // plain object is its own material inside and air outside.
-        MediumTransition t = medium_transition(hit, ray.direction, media);
-        if (!hit.in_csg) {
-            const bool entering = glm::dot(hit.normal, ray.direction) < 0.0f;
-            t.from = entering ? -1 : hit.material;
-            t.to = entering ? hit.material : -1;
-        }
-        const float n1 = t.from < 0 ? 1.0f : materials[t.from].refractive_index;
-        const float n2 = t.to < 0 ? 1.0f : materials[t.to].refractive_index;
+        // A dielectric interface (air included): Fresnel chooses reflection or refraction.
+        const float n1 = classic_index(materials, side.near_side), n2 = classic_index(materials, side.far_side);
         const float reflectance = fresnel_reflectance(n1, n2, -glm::dot(n, ray.direction));
         glm::vec3 refracted;
-        if (random.uniform() >= reflectance && refract_direction(ray.direction, n, n1, n2, refracted)) {
-            media = t.after;
+        if (random.uniform() >= reflectance && refract_direction(ray.direction, n, n1, n2, refracted))
             ray = Ray{hit.position, refracted, eps, ray_infinity};
-        } else {
+        else
             ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
-        }
     }
     return hits;
 }

@@ -108,12 +108,13 @@ double spherical_triangle_solid_angle(const glm::dvec3& a, const glm::dvec3& b, 
 /// clipped: a direction below the surface is returned as it is (the photon goes on into the solid).
 glm::vec3 classic_diffuse_direction(const glm::vec3& incoming, const glm::vec3& normal, float u1, float u2);
 
-/// B4 projection-map test: a direction is used when its first hit has Y(ks) > 0.2.
+/// B4 projection-map test: a direction is used when its first hit has Y(ks) > 0.2; gr.air() counts
+/// (ks = 1), so the openings of cups and tubes are targets.
 bool classic_projection_target(const Material& m);
 
 /// Traces one photon of `kind` from `ray` with `power` by the B4 rules and appends what it stores
 /// to `out`. `textures` (may be null) gives kd(uv). Returns the hits it made (at most
-/// classic_max_hits; crossings of gr.air() surfaces are not hits: they change nothing).
+/// classic_max_hits, gr.air() surfaces included: they are dielectric interfaces).
 int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, ClassicMapKind kind, Ray ray,
                          glm::vec3 power, RandomStream& random, std::vector<Photon>& out);
 
