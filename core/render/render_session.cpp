@@ -129,7 +129,7 @@ void RenderSession::set_job(const RenderJob& job) {
     if (size > 0) job_.width = job_.height = size;
     geometry_key_ = geometry_fingerprint(job_);
     caustic_key_ = caustics_needed(job_) ? caustic_fingerprint(job_, geometry_key_) : 0;
-    accumulation_.valid = false;  // any change of job starts the accumulation again
+    progressive_render_.invalidate();  // any change of job starts the accumulation again
 }
 
 void RenderSession::set_stop_rules(int passes, double time_limit, double target_error) {
@@ -143,7 +143,7 @@ void RenderSession::set_stop_rules(int passes, double time_limit, double target_
 bool RenderSession::resume() {
     cancel();
     if (worker_.joinable()) worker_.join();
-    if (!accumulation_.valid || !job_.options.accumulates() || image_.width != job_.width ||
+    if (!progressive_render_.resumable() || !job_.options.accumulates() || image_.width != job_.width ||
         image_.height != job_.height)
         return false;
     resuming_ = true;
@@ -287,7 +287,7 @@ void RenderSession::publish_caustic_stats() {
 void RenderSession::start() {
     cancel();
     if (worker_.joinable()) worker_.join();
-    if (!resuming_) accumulation_.valid = false;
+    if (!resuming_) progressive_render_.invalidate();
     resuming_ = false;
     cancel_requested_ = false;
     error_ = nullptr;
@@ -328,7 +328,7 @@ void RenderSession::run() {
             if (cancel_requested_) return;
             // An accumulating preview shows direct light at once: a coarse pass before photons
             // that are not cached yet are shot.
-            direct_first_ = progressive_ && job_.options.accumulates() && !accumulation_.valid && caustic_key_ != 0 &&
+            direct_first_ = progressive_ && job_.options.accumulates() && !progressive_render_.resumable() && caustic_key_ != 0 &&
                             !(caustics_ && caustics_->key == caustic_key_);
             if (direct_first_) render_direct_preview(arena);
             if (cancel_requested_) return;
@@ -486,6 +486,51 @@ struct RenderSession::PassRunner {
     }
 };
 
+/// The session as a render loop sees it (RenderHost): its job and stages, its tiles run by a
+/// PassRunner, its progress under the mutex.
+class RenderSession::Host final : public RenderHost {
+public:
+    Host(RenderSession& session, PassRunner& runner) : session_(session), runner_(runner) {}
+
+    const RenderJob& job() const override { return session_.job_; }
+    const RenderScene& scene() const override { return *session_.scene_; }
+    const CausticStage* photon_stage() const override {
+        return session_.caustic_key_ != 0 ? session_.caustics_.get() : nullptr;
+    }
+    const std::atomic<bool>& cancel_flag() const override { return session_.cancel_requested_; }
+    Cluster* cluster() const override { return session_.distributed() ? session_.cluster_ : nullptr; }
+    double elapsed_seconds() const override { return now_seconds() - session_.start_time_; }
+    int coarse_preview_block() const override {
+        return session_.progressive_ && !session_.direct_first_ ? session_.preview_block_ : 0;
+    }
+    bool direct_preview_shown() const override { return session_.direct_first_; }
+    Image& image() override { return session_.image_; }
+    const std::vector<Tile>& tiles() const override { return session_.tiles_; }
+    void run_tiles(const char* stage, int pass, const TileBody& body) override { runner_.run(stage, pass, body); }
+    void publish_tiles(const std::function<void(const Tile&)>& fill) override {
+        for (std::size_t i = 0; i < session_.tiles_.size(); ++i) {
+            std::lock_guard tile_lock(session_.tile_mutexes_[i]);
+            fill(session_.tiles_[i]);
+            session_.tile_versions_[i].store(++session_.version_counter_, std::memory_order_release);
+        }
+    }
+    RayCounters ray_totals() const override { return runner_.total(); }
+    void report(const std::function<void(SessionProgress&, RenderStats&)>& update) override {
+        std::lock_guard lock(session_.mutex_);
+        update(session_.progress_, session_.stats_);
+    }
+    void add_stage_time(const char* stage, double seconds) override {
+        std::lock_guard lock(session_.mutex_);
+        session_.add_stage_time(stage, seconds);
+    }
+    void set_stage(const char* stage) override { session_.set_stage(stage); }
+    std::atomic<long long>& photon_progress() override { return session_.photon_progress_; }
+
+private:
+    RenderSession& session_;
+    PassRunner& runner_;
+};
+
 namespace {
 
 TileContext make_context(const Options& options, const Camera& camera, const Integrator& integrator) {
@@ -534,7 +579,8 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     PassRunner runner{*this, arena, {}};
 
     if (options.accumulates()) {
-        accumulate_passes(runner, setup, context);
+        Host host(*this, runner);
+        progressive_render_.run(host, setup, context);
     } else if (distributed()) {
         render_distributed_classic(runner, context);
     } else {
@@ -678,266 +724,6 @@ void RenderSession::render_distributed_classic(PassRunner& runner, TileContext& 
     share("anti-aliasing", 1, [&](std::size_t, const Tile& tile, RayCounters& c) {
         render_antialiasing_tile(context, tile, first_pass_, image_, c);
     });
-}
-
-ErrorEstimate RenderSession::combined_error() {
-    // Every rank's sums added on rank 0 (a copy: the accumulation goes on), its estimate sent back.
-    // The copy is made before the checkpoint: nothing may fail between it and the reduction.
-    ProgressiveAccumulator all;
-    std::exception_ptr error;
-    try {
-        all.reset(accumulator_.width(), accumulator_.height());
-        all.sums() = accumulator_.sums();
-    } catch (...) {
-        error = std::current_exception();
-    }
-    cluster_->checkpoint(error, &cancel_requested_);
-    cluster_->reduce_sum(all.sums());
-    ErrorEstimate e;
-    if (cluster_->rank() == 0) e = all.estimate_error();
-    Cluster::Bytes bytes(sizeof e);
-    std::memcpy(bytes.data(), &e, sizeof e);
-    cluster_->broadcast(bytes, 0);
-    if (bytes.size() != sizeof e) throw std::runtime_error("the error estimate from rank 0 has the wrong size");
-    std::memcpy(&e, bytes.data(), sizeof e);
-    return e;
-}
-
-namespace {
-
-/// The photon directions a stage's lights were given.
-long long photon_directions(const CausticStage& stage) {
-    long long directions = 0;
-    for (const LightCausticStats& l : stage.lights) directions += l.candidates;
-    return directions;
-}
-
-}  // namespace
-
-void RenderSession::accumulate_passes(PassRunner& runner, const ShadingSetup& setup, const TileContext& context) {
-    // Progressive photon mapping, memoryless (Knaus & Zwicker 2011; docs/CAUSTICS.md): pass i
-    // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
-    // (i + 1); each pixel averages its passes' jittered samples. Noise and bias both vanish as
-    // passes grow, in memory fixed by the image size. r_1(x) is where the first pass's map has its
-    // N-th nearest photon from the first pass's gather point in the pixel (capped by the maximum
-    // distance): small where photons crowd.
-    // Every pass depends on the first alone (its map and radii), so passes can run anywhere: with
-    // K ranks (issue 13) the passes go in rounds, rank k running pass round K + k; the ranks that
-    // do not own pass 0 trace it for the radii alone. Their integer sums add up to one process's.
-    constexpr double alpha = 2.0 / 3.0;
-    const Options& options = job_.options;
-    const bool shared = distributed();
-    const int ranks = shared ? cluster_->size() : 1, rank = shared ? cluster_->rank() : 0;
-    Accumulation& acc = accumulation_;
-    const bool resumed = acc.valid && !shared;
-    if (!resumed) {
-        accumulator_.reset(job_.width, job_.height);
-        acc = Accumulation{};
-        acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
-        acc.seed = context.seed;
-    }
-    const int limit = options.passes;  // 0 = none
-    const double segment_start = now_seconds(), seconds_before = acc.seconds;
-    auto elapsed = [&] { return seconds_before + (now_seconds() - start_time_); };
-    {
-        std::lock_guard lock(mutex_);
-        progress_.accumulating = true;
-        progress_.pass_limit = limit;
-        progress_.passes_done = acc.next_pass;
-        progress_.photons_emitted = acc.photons_emitted;
-        progress_.samples_per_pixel = acc.next_pass;
-        progress_.radius = acc.radius;
-        progress_.error = acc.error;
-        progress_.accumulated_seconds = acc.seconds;
-        // Tiles count per pass (a direct-light preview already shown included); the total grows
-        // with the passes when no limit is set.
-        const int shown = direct_first_ ? 1 : 0;
-        const int coarse = progressive_ && !resumed && !direct_first_ ? 1 : 0;
-        const int planned = limit > 0 ? std::max(1, (limit - acc.next_pass + ranks - 1) / ranks) : 1;
-        progress_.passes = shown + coarse + planned;
-        progress_.tiles_total = tiles_.size() * static_cast<std::size_t>(progress_.passes);
-    }
-    const bool has_photons = caustic_key_ != 0 && caustics_ && caustics_->map;
-    if (progressive_ && !resumed && !direct_first_) {
-        runner.run("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
-            render_coarse_tile(context, tile, preview_block_, image_, c);
-        });
-    }
-    // What pass p gathers with: its map, the first pass's radii scaled by (r_p / r_1).
-    auto pass_setup_for = [&](const PhotonMap* map, int p) {
-        while (acc.scale_pass < p) {  // the same sequence of roundings whichever rank walks it
-            acc.scale2 = next_radius2(acc.scale2, acc.scale_pass + 1, alpha);
-            ++acc.scale_pass;
-        }
-        ShadingSetup pass_setup = setup;
-        pass_setup.caustic_map = map;
-        pass_setup.radius_map = has_photons ? caustics_->map.get() : nullptr;
-        // One random point of each area light per pass: soft shadows converge over the passes
-        // like everything else, with no grid pattern and n^2 fewer shadow rays a pass.
-        pass_setup.shadow_grid = 1;
-        pass_setup.radius_scale = static_cast<float>(std::sqrt(acc.scale2));
-        return pass_setup;
-    };
-    if (shared && !resumed && rank != 0 && !cancel_requested_) {
-        const ShadingSetup first_setup = pass_setup_for(has_photons ? caustics_->map.get() : nullptr, 0);
-        const std::unique_ptr<Integrator> first_integrator = make_integrator(options.integrator, first_setup);
-        TileContext first_context = context;
-        first_context.integrator = first_integrator.get();
-        first_context.seed = acc.seed;
-        // Its own counters: the rays of this repeat are not the image's (statistics sum them).
-        PassRunner repeat{*this, runner.arena, {}};
-        repeat.run("first radii", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
-            render_accumulation_tile(first_context, tile, 0, accumulator_, image_, c, true);
-        });
-    }
-    double last_round_seconds = 0.0, radius_log_before = 0.0;
-    std::uint64_t radius_samples_before = 0;
-    int next_error_check = 0;  // shared: the round whose end estimates the error (with --target-error)
-    std::string stopped_by = "passes";
-    for (int round = 0;; ++round) {
-        const int base = acc.next_pass;
-        if (cancel_requested_ && !shared) {
-            stopped_by = "cancelled";
-            break;
-        }
-        if ((limit > 0 && base >= limit) || base >= max_accumulated_passes) break;  // the sums' capacity
-        if (options.target_error > 0.0 && acc.error.known && base >= 4 && acc.error.relative <= options.target_error) {
-            stopped_by = "target error";
-            break;
-        }
-        // No round that would end past the time limit (predicted from the last one); at least one.
-        // With ranks, the slowest rank's times decide, the same on every rank.
-        // (Asked only after a round: its end was a checkpoint every rank passed.)
-        if (options.time_limit > 0.0 && base > 0 &&
-            (shared ? cluster_->all_max(elapsed()) : elapsed()) + last_round_seconds > options.time_limit) {
-            stopped_by = "time";
-            break;
-        }
-        const int p = base + rank;
-        const bool mine = limit == 0 || p < limit;
-        const double t0 = now_seconds();
-        std::unique_ptr<CausticStage> fresh;
-        long long round_photons = 0;
-        if (mine) {
-            const PhotonMap* map = has_photons ? caustics_->map.get() : nullptr;
-            if (p > 0 && has_photons) {
-                PhotonPassExtras extras;
-                extras.seed = hash_combine(acc.seed ^ 0x7061737365730000ULL, static_cast<std::uint64_t>(p));
-                extras.first = caustics_.get();
-                extras.progress = &photon_progress_;
-                photon_progress_ = 0;
-                {
-                    std::lock_guard lock(mutex_);
-                    progress_.photons_done = 0;
-                    progress_.photons_total = photon_directions(*caustics_);
-                }
-                fresh = std::make_unique<CausticStage>();
-                set_stage("shooting photons");
-                build_progressive_pass(*fresh, *scene_, job_, &cancel_requested_, extras);
-                if (cancel_requested_ && !shared) {
-                    stopped_by = "cancelled";
-                    break;
-                }
-                map = fresh->map.get();
-            }
-            if (has_photons) round_photons = photon_directions(fresh ? *fresh : *caustics_);
-            const ShadingSetup pass_setup = pass_setup_for(map, p);
-            const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
-            TileContext pass_context = context;
-            pass_context.integrator = pass_integrator.get();
-            pass_context.seed = acc.seed;
-            if (round > 0) {  // one more pass to show: the tile total grows when there is no limit
-                std::lock_guard lock(mutex_);
-                if (limit == 0) {
-                    ++progress_.passes;
-                    progress_.tiles_total += tiles_.size();
-                }
-            }
-            if (!(shared && cancel_requested_))
-                runner.run("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
-                    render_accumulation_tile(pass_context, tile, p, accumulator_, image_, c);
-                });
-        }
-        double round_seconds = now_seconds() - t0;
-        if (shared) {  // the round's end: every rank's state, photons and time
-            cluster_->checkpoint(nullptr, &cancel_requested_);
-            round_photons = cluster_->all_sum(round_photons);
-            round_seconds = cluster_->all_max(round_seconds);
-        }
-        // Pass p + 1 (1-based) has been averaged, wholly or (cancelled) in part: its pixels keep
-        // their sample, the next pass is new.
-        acc.next_pass = limit > 0 ? std::min(limit, base + ranks) : base + ranks;
-        acc.photons_emitted += round_photons;
-        if (!shared) {
-            acc.error = accumulator_.estimate_error();
-        } else if (options.target_error > 0.0 && round >= next_error_check) {
-            // Adding every rank's sums costs time (116 bytes a pixel through the network): every
-            // round up to 256 K pixels, every 4th at a megapixel, every 32nd at 4K, at most every
-            // 64th. Fixed by the image size, so that --reproducible stops after the same pass.
-            acc.error = combined_error();
-            const std::size_t pixels = static_cast<std::size_t>(job_.width) * static_cast<std::size_t>(job_.height);
-            next_error_check = round + static_cast<int>(std::clamp<std::size_t>(pixels >> 18, 1, 64));
-        }
-        if (cancel_requested_ && !shared) {
-            stopped_by = "cancelled";
-            break;
-        }
-        // The radius where the pass gathered (geometric mean over its gathers, for reports).
-        const RayCounters pass_total = runner.total();
-        const double radius = pass_total.radius_samples > radius_samples_before
-                                  ? std::exp((pass_total.radius_log_sum - radius_log_before) /
-                                             static_cast<double>(pass_total.radius_samples - radius_samples_before))
-                                  : 0.0;
-        radius_log_before = pass_total.radius_log_sum;
-        radius_samples_before = pass_total.radius_samples;
-        if (base == 0) acc.first_radius = radius;
-        acc.radius = radius;
-        last_round_seconds = round_seconds;
-        std::lock_guard lock(mutex_);
-        progress_.passes_done = acc.next_pass;
-        progress_.photons_emitted = acc.photons_emitted;
-        progress_.accumulated_seconds = seconds_before + (now_seconds() - segment_start);
-        progress_.samples_per_pixel = acc.next_pass;
-        progress_.radius = acc.radius;
-        progress_.error = acc.error;
-        if (fresh) {
-            stats_.caustic_lights = fresh->lights;
-            stats_.caustic_photons = fresh->map ? fresh->map->size() : 0;
-            stats_.caustic_map_bytes = fresh->map ? fresh->map->memory_bytes() : 0;
-            add_stage_time("photon passes", fresh->map_seconds + fresh->shoot_seconds + fresh->tree_seconds);
-        }
-    }
-    if (shared) {
-        // Every rank's sums on rank 0, which makes the image and the estimate one process makes.
-        cluster_->checkpoint(nullptr, &cancel_requested_);
-        cluster_->reduce_sum(accumulator_.sums());
-        if (rank == 0) {
-            acc.error = accumulator_.estimate_error();
-            for (std::size_t i = 0; i < tiles_.size(); ++i) {
-                std::lock_guard tile_lock(tile_mutexes_[i]);
-                const Tile& t = tiles_[i];
-                for (int y = t.y0; y < t.y1; ++y)
-                    for (int x = t.x0; x < t.x1; ++x)
-                        image_.at(x, y) = accumulator_.mean(static_cast<std::size_t>(y) * job_.width + x);
-                tile_versions_[i].store(++version_counter_, std::memory_order_release);
-            }
-        }
-    }
-    acc.seconds = seconds_before + (now_seconds() - segment_start);
-    std::lock_guard lock(mutex_);
-    progress_.stopped_by = stopped_by;
-    progress_.accumulated_seconds = acc.seconds;
-    if (shared) progress_.error = acc.error;  // from every rank's sums (one process's: the last pass's)
-    RenderStats::Accumulation& a = stats_.accumulation;
-    a.passes = acc.next_pass;
-    a.first_radius = acc.first_radius;
-    a.radius = acc.radius;
-    a.photons_emitted = acc.photons_emitted;
-    a.error = acc.error.known ? acc.error.relative : -1.0;
-    a.noise = acc.error.noise;
-    a.bias = acc.error.bias;
-    a.bytes = accumulator_.memory_bytes();
-    a.stopped_by = stopped_by;
 }
 
 void RenderSession::cancel() { cancel_requested_ = true; }

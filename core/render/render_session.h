@@ -10,7 +10,8 @@
 #include "core/geometry/ray.h"
 #include "core/scene/scene_desc.h"
 #include "core/render/tile_renderer.h"
-#include "core/render/progressive_accumulator.h"
+#include "core/integrators/progressive_accumulator.h"
+#include "core/integrators/progressive_render.h"
 #include "core/render/cluster.h"
 
 #include <tbb/task_arena.h>
@@ -186,11 +187,11 @@ public:
 
 private:
     struct PassRunner;
+    class Host;                 // the RenderHost a render loop sees
     void run();                 // the background thread's body
     void run_distributed(tbb::task_arena& arena, int threads);  // run() with the other ranks
     bool distributed() const { return cluster_ && cluster_->size() > 1; }
     void render_distributed_classic(PassRunner& runner, TileContext& context);
-    ErrorEstimate combined_error();  // the estimate from every rank's sums (collective)
     Cluster::Bytes tile_bytes(int first, int last) const;
     void put_tile_bytes(int first, int last, const Cluster::Bytes& bytes);
     void prepare_scene();       // flattening, BVH, textures
@@ -198,7 +199,6 @@ private:
     void prepare_caustics();    // projection maps, photons, k-d tree
     void publish_caustic_stats();  // under mutex_
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
-    void accumulate_passes(PassRunner& runner, const ShadingSetup& setup, const TileContext& context);
     ShadingSetup make_setup() const;  // everything the integrator needs but the photon maps
     void render_direct_preview(tbb::task_arena& arena);  // a coarse pass before photons are shot
     void set_stage(const char* name);
@@ -223,20 +223,8 @@ private:
 
     Image image_, first_pass_;
     std::vector<std::uint8_t> refine_;  // corner_grid: pixels the anti-aliasing pass refines
-    // Progressive accumulation, kept across start()s so that resume() continues it.
-    struct Accumulation {
-        bool valid = false;       // the buffers hold passes of the current job
-        int next_pass = 0;        // 0-based index of the next pass (of the next round, with ranks)
-        int scale_pass = 0;       // the pass scale2 is for
-        double scale2 = 1.0;      // (r_i / r_1)^2 of pass scale_pass (+ 1 = i)
-        double first_radius = 0.0, radius = 0.0;  // mean radius of the first and the last pass
-        std::uint64_t seed = 0;   // base of the photon and pixel streams
-        long long photons_emitted = 0;
-        double seconds = 0.0;     // rendering time over every start and resume
-        ErrorEstimate error;
-    };
-    ProgressiveAccumulator accumulator_;
-    Accumulation accumulation_;
+    // The progressive integrator's loop, kept across start()s so that resume() continues it.
+    ProgressiveRender progressive_render_;
     bool resuming_ = false;
     bool direct_first_ = false;  // this render showed a direct-light preview before its photons
     std::atomic<long long> photon_progress_{0};

@@ -124,39 +124,6 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
     }
 }
 
-void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
-                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters, bool radius_only) {
-    // The probes are read from zero around each ray (then added back), so that what a pixel gets
-    // does not depend on what else the thread's counters summed: the same bits for any thread count.
-    const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
-    double photon_total = 0.0, inner_total = 0.0;
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            const std::size_t index = static_cast<std::size_t>(y) * out.width + x;
-            // One stream per (pixel, pass): the same image for any thread count.
-            RandomStream random(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
-            const float px = static_cast<float>(x) + random.uniform(), py = static_cast<float>(y) + random.uniform();
-            counters.photon_value = counters.photon_value_inner = 0.0;
-            counters.first_radius = accumulator.first_radius(index);
-            PassSample sample;
-            sample.colour = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
-            // r_1 is the first pass's alone: a later pass that gathers where the first did not
-            // finds its own radius at each gather and keeps none (no pass depends on another).
-            if (pass == 0 && counters.first_radius > 0.0f) accumulator.set_first_radius(index, counters.first_radius);
-            if (radius_only) continue;
-            sample.photon = counters.photon_value;
-            sample.photon_inner = counters.photon_value_inner;
-            photon_total += sample.photon;
-            inner_total += sample.photon_inner;
-            ++counters.samples;
-            check_pixel(sample.colour, x, y);
-            out.at(x, y) = accumulator.add(index, sample);
-        }
-    }
-    counters.photon_value = photon_before + photon_total;
-    counters.photon_value_inner = inner_before + inner_total;
-}
-
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold) {
     const glm::vec3 centre = glm::clamp(first_pass.at(x, y), 0.0f, 1.0f);
     for (int dy = -1; dy <= 1; ++dy) {

@@ -4,7 +4,6 @@
 
 #include "core/scene/camera.h"
 #include "core/render/image.h"
-#include "core/render/progressive_accumulator.h"
 #include "core/integrators/integrator.h"
 
 #include <cstdint>
@@ -45,14 +44,6 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
 /// adaptive_neighbours: whether pixel (x, y) differs from a neighbour by more than the threshold
 /// (sum of |RGB| differences of the clamped colours).
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold);
-
-/// One progressive pass (0-based `pass`): a jittered sample per pixel, deterministic per (pixel,
-/// pass), added to the accumulator with its photon probes; the pixel's mean goes to `out`. Pass 0
-/// also sets the pixels' r_1. `radius_only` (pass 0 on a rank that does not own it) sets r_1 and
-/// adds nothing.
-void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
-                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters,
-                              bool radius_only = false);
 
 /// B3's difference of the four corner samples of a pixel: the sum over the 6 pairs of the
 /// squared RGB differences (unclamped).

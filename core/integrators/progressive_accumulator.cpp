@@ -1,4 +1,4 @@
-#include "core/render/progressive_accumulator.h"
+#include "core/integrators/progressive_accumulator.h"
 
 #include <algorithm>
 #include <cmath>

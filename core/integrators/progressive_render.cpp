@@ -1,0 +1,323 @@
+#include "core/integrators/progressive_render.h"
+
+#include "core/photons/caustic_stage.h"
+#include "core/render/random.h"
+#include "core/render/render_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace caustica {
+namespace {
+
+double now_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// The photon directions a stage's lights were given.
+long long photon_directions(const CausticStage& stage) {
+    long long directions = 0;
+    for (const LightCausticStats& l : stage.lights) directions += l.candidates;
+    return directions;
+}
+
+/// Debug builds check every pixel: a NaN or infinity is a bug to find, not a value to clamp.
+inline void check_pixel([[maybe_unused]] const glm::vec3& c, [[maybe_unused]] int x, [[maybe_unused]] int y) {
+#ifndef NDEBUG
+    if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
+        throw std::logic_error("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is not finite");
+#endif
+}
+
+}  // namespace
+
+void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
+                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters, bool radius_only) {
+    // The probes are read from zero around each ray (then added back), so that what a pixel gets
+    // does not depend on what else the thread's counters summed: the same bits for any thread count.
+    const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
+    double photon_total = 0.0, inner_total = 0.0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const std::size_t index = static_cast<std::size_t>(y) * out.width + x;
+            // One stream per (pixel, pass): the same image for any thread count.
+            RandomStream random(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
+            const float px = static_cast<float>(x) + random.uniform(), py = static_cast<float>(y) + random.uniform();
+            counters.photon_value = counters.photon_value_inner = 0.0;
+            counters.first_radius = accumulator.first_radius(index);
+            PassSample sample;
+            sample.colour = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
+            // r_1 is the first pass's alone: a later pass that gathers where the first did not
+            // finds its own radius at each gather and keeps none (no pass depends on another).
+            if (pass == 0 && counters.first_radius > 0.0f) accumulator.set_first_radius(index, counters.first_radius);
+            if (radius_only) continue;
+            sample.photon = counters.photon_value;
+            sample.photon_inner = counters.photon_value_inner;
+            photon_total += sample.photon;
+            inner_total += sample.photon_inner;
+            ++counters.samples;
+            check_pixel(sample.colour, x, y);
+            out.at(x, y) = accumulator.add(index, sample);
+        }
+    }
+    counters.photon_value = photon_before + photon_total;
+    counters.photon_value_inner = inner_before + inner_total;
+}
+
+ErrorEstimate ProgressiveRender::combined_error(Cluster& cluster, const std::atomic<bool>& cancel) {
+    // Every rank's sums added on rank 0 (a copy: the accumulation goes on), its estimate sent back.
+    // The copy is made before the checkpoint: nothing may fail between it and the reduction.
+    ProgressiveAccumulator all;
+    std::exception_ptr error;
+    try {
+        all.reset(accumulator_.width(), accumulator_.height());
+        all.sums() = accumulator_.sums();
+    } catch (...) {
+        error = std::current_exception();
+    }
+    cluster.checkpoint(error, &cancel);
+    cluster.reduce_sum(all.sums());
+    ErrorEstimate e;
+    if (cluster.rank() == 0) e = all.estimate_error();
+    Cluster::Bytes bytes(sizeof e);
+    std::memcpy(bytes.data(), &e, sizeof e);
+    cluster.broadcast(bytes, 0);
+    if (bytes.size() != sizeof e) throw std::runtime_error("the error estimate from rank 0 has the wrong size");
+    std::memcpy(&e, bytes.data(), sizeof e);
+    return e;
+}
+
+void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const TileContext& context) {
+    // Progressive photon mapping, memoryless (Knaus & Zwicker 2011; docs/CAUSTICS.md): pass i
+    // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
+    // (i + 1); each pixel averages its passes' jittered samples. Noise and bias both vanish as
+    // passes grow, in memory fixed by the image size. r_1(x) is where the first pass's map has its
+    // N-th nearest photon from the first pass's gather point in the pixel (capped by the maximum
+    // distance): small where photons crowd.
+    // Every pass depends on the first alone (its map and radii), so passes can run anywhere: with
+    // K ranks the passes go in rounds, rank k running pass round K + k; the ranks that do not own
+    // pass 0 trace it for the radii alone. Their integer sums add up to one process's.
+    constexpr double alpha = 2.0 / 3.0;
+    const RenderJob& job = host.job();
+    const Options& options = job.options;
+    Cluster* const cluster = host.cluster();
+    const bool shared = cluster && cluster->size() > 1;
+    const std::atomic<bool>& cancel = host.cancel_flag();
+    const int ranks = shared ? cluster->size() : 1, rank = shared ? cluster->rank() : 0;
+    State& acc = state_;
+    const bool resumed = acc.valid && !shared;
+    if (!resumed) {
+        accumulator_.reset(job.width, job.height);
+        acc = State{};
+        acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
+        acc.seed = context.seed;
+    }
+    const int limit = options.passes;  // 0 = none
+    const double segment_start = now_seconds(), seconds_before = acc.seconds;
+    auto elapsed = [&] { return seconds_before + host.elapsed_seconds(); };
+    const int coarse_block = resumed ? 0 : host.coarse_preview_block();
+    const std::size_t tile_count = host.tiles().size();
+    host.report([&](SessionProgress& progress, RenderStats&) {
+        progress.accumulating = true;
+        progress.pass_limit = limit;
+        progress.passes_done = acc.next_pass;
+        progress.photons_emitted = acc.photons_emitted;
+        progress.samples_per_pixel = acc.next_pass;
+        progress.radius = acc.radius;
+        progress.error = acc.error;
+        progress.accumulated_seconds = acc.seconds;
+        // Tiles count per pass (a direct-light preview already shown included); the total grows
+        // with the passes when no limit is set.
+        const int shown = host.direct_preview_shown() ? 1 : 0;
+        const int coarse = coarse_block > 0 ? 1 : 0;
+        const int planned = limit > 0 ? std::max(1, (limit - acc.next_pass + ranks - 1) / ranks) : 1;
+        progress.passes = shown + coarse + planned;
+        progress.tiles_total = tile_count * static_cast<std::size_t>(progress.passes);
+    });
+    const CausticStage* const first_stage = host.photon_stage();
+    const bool has_photons = first_stage && first_stage->map;
+    Image& image = host.image();
+    if (coarse_block > 0) {
+        host.run_tiles("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
+            render_coarse_tile(context, tile, coarse_block, image, c);
+        });
+    }
+    // What pass p gathers with: its map, the first pass's radii scaled by (r_p / r_1).
+    auto pass_setup_for = [&](const PhotonMap* map, int p) {
+        while (acc.scale_pass < p) {  // the same sequence of roundings whichever rank walks it
+            acc.scale2 = next_radius2(acc.scale2, acc.scale_pass + 1, alpha);
+            ++acc.scale_pass;
+        }
+        ShadingSetup pass_setup = setup;
+        pass_setup.caustic_map = map;
+        pass_setup.radius_map = has_photons ? first_stage->map.get() : nullptr;
+        // One random point of each area light per pass: soft shadows converge over the passes
+        // like everything else, with no grid pattern and n^2 fewer shadow rays a pass.
+        pass_setup.shadow_grid = 1;
+        pass_setup.radius_scale = static_cast<float>(std::sqrt(acc.scale2));
+        return pass_setup;
+    };
+    if (shared && !resumed && rank != 0 && !cancel) {
+        const ShadingSetup first_setup = pass_setup_for(has_photons ? first_stage->map.get() : nullptr, 0);
+        const std::unique_ptr<Integrator> first_integrator = make_integrator(options.integrator, first_setup);
+        TileContext first_context = context;
+        first_context.integrator = first_integrator.get();
+        first_context.seed = acc.seed;
+        // Its own counters: the rays of this repeat are not the image's (statistics sum them).
+        host.run_tiles("first radii", 0, [&](std::size_t, const Tile& tile, RayCounters&) {
+            RayCounters repeat;
+            render_accumulation_tile(first_context, tile, 0, accumulator_, image, repeat, true);
+        });
+    }
+    double last_round_seconds = 0.0, radius_log_before = 0.0;
+    std::uint64_t radius_samples_before = 0;
+    int next_error_check = 0;  // shared: the round whose end estimates the error (with --target-error)
+    std::string stopped_by = "passes";
+    for (int round = 0;; ++round) {
+        const int base = acc.next_pass;
+        if (cancel && !shared) {
+            stopped_by = "cancelled";
+            break;
+        }
+        if ((limit > 0 && base >= limit) || base >= max_accumulated_passes) break;  // the sums' capacity
+        if (options.target_error > 0.0 && acc.error.known && base >= 4 && acc.error.relative <= options.target_error) {
+            stopped_by = "target error";
+            break;
+        }
+        // No round that would end past the time limit (predicted from the last one); at least one.
+        // With ranks, the slowest rank's times decide, the same on every rank.
+        // (Asked only after a round: its end was a checkpoint every rank passed.)
+        if (options.time_limit > 0.0 && base > 0 &&
+            (shared ? cluster->all_max(elapsed()) : elapsed()) + last_round_seconds > options.time_limit) {
+            stopped_by = "time";
+            break;
+        }
+        const int p = base + rank;
+        const bool mine = limit == 0 || p < limit;
+        const double t0 = now_seconds();
+        std::unique_ptr<CausticStage> fresh;
+        long long round_photons = 0;
+        if (mine) {
+            const PhotonMap* map = has_photons ? first_stage->map.get() : nullptr;
+            if (p > 0 && has_photons) {
+                PhotonPassExtras extras;
+                extras.seed = hash_combine(acc.seed ^ 0x7061737365730000ULL, static_cast<std::uint64_t>(p));
+                extras.first = first_stage;
+                extras.progress = &host.photon_progress();
+                host.photon_progress() = 0;
+                host.report([&](SessionProgress& progress, RenderStats&) {
+                    progress.photons_done = 0;
+                    progress.photons_total = photon_directions(*first_stage);
+                });
+                fresh = std::make_unique<CausticStage>();
+                host.set_stage("shooting photons");
+                build_progressive_pass(*fresh, host.scene(), job, &cancel, extras);
+                if (cancel && !shared) {
+                    stopped_by = "cancelled";
+                    break;
+                }
+                map = fresh->map.get();
+            }
+            if (has_photons) round_photons = photon_directions(fresh ? *fresh : *first_stage);
+            const ShadingSetup pass_setup = pass_setup_for(map, p);
+            const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
+            TileContext pass_context = context;
+            pass_context.integrator = pass_integrator.get();
+            pass_context.seed = acc.seed;
+            if (round > 0 && limit == 0) {  // one more pass to show: the tile total grows
+                host.report([&](SessionProgress& progress, RenderStats&) {
+                    ++progress.passes;
+                    progress.tiles_total += tile_count;
+                });
+            }
+            if (!(shared && cancel))
+                host.run_tiles("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
+                    render_accumulation_tile(pass_context, tile, p, accumulator_, image, c);
+                });
+        }
+        double round_seconds = now_seconds() - t0;
+        if (shared) {  // the round's end: every rank's state, photons and time
+            cluster->checkpoint(nullptr, &cancel);
+            round_photons = cluster->all_sum(round_photons);
+            round_seconds = cluster->all_max(round_seconds);
+        }
+        // Pass p + 1 (1-based) has been averaged, wholly or (cancelled) in part: its pixels keep
+        // their sample, the next pass is new.
+        acc.next_pass = limit > 0 ? std::min(limit, base + ranks) : base + ranks;
+        acc.photons_emitted += round_photons;
+        if (!shared) {
+            acc.error = accumulator_.estimate_error();
+        } else if (options.target_error > 0.0 && round >= next_error_check) {
+            // Adding every rank's sums costs time (116 bytes a pixel through the network): every
+            // round up to 256 K pixels, every 4th at a megapixel, every 32nd at 4K, at most every
+            // 64th. Fixed by the image size, so that --reproducible stops after the same pass.
+            acc.error = combined_error(*cluster, cancel);
+            const std::size_t pixels = static_cast<std::size_t>(job.width) * static_cast<std::size_t>(job.height);
+            next_error_check = round + static_cast<int>(std::clamp<std::size_t>(pixels >> 18, 1, 64));
+        }
+        if (cancel && !shared) {
+            stopped_by = "cancelled";
+            break;
+        }
+        // The radius where the pass gathered (geometric mean over its gathers, for reports).
+        const RayCounters pass_total = host.ray_totals();
+        const double radius = pass_total.radius_samples > radius_samples_before
+                                  ? std::exp((pass_total.radius_log_sum - radius_log_before) /
+                                             static_cast<double>(pass_total.radius_samples - radius_samples_before))
+                                  : 0.0;
+        radius_log_before = pass_total.radius_log_sum;
+        radius_samples_before = pass_total.radius_samples;
+        if (base == 0) acc.first_radius = radius;
+        acc.radius = radius;
+        last_round_seconds = round_seconds;
+        host.report([&](SessionProgress& progress, RenderStats& stats) {
+            progress.passes_done = acc.next_pass;
+            progress.photons_emitted = acc.photons_emitted;
+            progress.accumulated_seconds = seconds_before + (now_seconds() - segment_start);
+            progress.samples_per_pixel = acc.next_pass;
+            progress.radius = acc.radius;
+            progress.error = acc.error;
+            if (fresh) {
+                stats.caustic_lights = fresh->lights;
+                stats.caustic_photons = fresh->map ? fresh->map->size() : 0;
+                stats.caustic_map_bytes = fresh->map ? fresh->map->memory_bytes() : 0;
+            }
+        });
+        if (fresh) host.add_stage_time("photon passes", fresh->map_seconds + fresh->shoot_seconds + fresh->tree_seconds);
+    }
+    if (shared) {
+        // Every rank's sums on rank 0, which makes the image and the estimate one process makes.
+        cluster->checkpoint(nullptr, &cancel);
+        cluster->reduce_sum(accumulator_.sums());
+        if (rank == 0) {
+            acc.error = accumulator_.estimate_error();
+            host.publish_tiles([&](const Tile& t) {
+                for (int y = t.y0; y < t.y1; ++y)
+                    for (int x = t.x0; x < t.x1; ++x)
+                        image.at(x, y) = accumulator_.mean(static_cast<std::size_t>(y) * job.width + x);
+            });
+        }
+    }
+    acc.seconds = seconds_before + (now_seconds() - segment_start);
+    host.report([&](SessionProgress& progress, RenderStats& stats) {
+        progress.stopped_by = stopped_by;
+        progress.accumulated_seconds = acc.seconds;
+        if (shared) progress.error = acc.error;  // from every rank's sums (one process's: the last pass's)
+        RenderStats::Accumulation& a = stats.accumulation;
+        a.passes = acc.next_pass;
+        a.first_radius = acc.first_radius;
+        a.radius = acc.radius;
+        a.photons_emitted = acc.photons_emitted;
+        a.error = acc.error.known ? acc.error.relative : -1.0;
+        a.noise = acc.error.noise;
+        a.bias = acc.error.bias;
+        a.bytes = accumulator_.memory_bytes();
+        a.stopped_by = stopped_by;
+    });
+}
+
+}  // namespace caustica

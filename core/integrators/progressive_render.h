@@ -1,0 +1,59 @@
+// The progressive integrator's render loop: passes of fresh photons gathered with a shrinking
+// radius and one new sample per pixel, accumulated until a stopping rule (--passes, --time,
+// --target-error) or a cancel; docs/CAUSTICS.md, "Progressive photon mapping". The session runs it
+// (RenderHost) and keeps it between renders, so that resume() continues the accumulation.
+#pragma once
+
+#include "core/integrators/integrator.h"
+#include "core/integrators/progressive_accumulator.h"
+#include "core/render/render_host.h"
+#include "core/render/tile_renderer.h"
+
+#include <cstdint>
+
+namespace caustica {
+
+class ProgressiveRender {
+public:
+    /// Whether the buffers hold passes of the job last rendered (resume() may continue them).
+    bool resumable() const { return state_.valid; }
+    /// Forgets the accumulation (another job, or a fresh start).
+    void invalidate() { state_.valid = false; }
+
+    /// Renders passes until a stopping rule or a cancel, continuing the accumulation when it is
+    /// resumable. `setup` holds everything but the pass's photon map and radii; `context` the
+    /// camera and the base seed.
+    void run(RenderHost& host, const ShadingSetup& setup, const TileContext& context);
+
+    const ProgressiveAccumulator& accumulator() const { return accumulator_; }
+
+private:
+    // Kept across renders, so that resume() continues the accumulation.
+    struct State {
+        bool valid = false;       // the buffers hold passes of the current job
+        int next_pass = 0;        // 0-based index of the next pass (of the next round, with ranks)
+        int scale_pass = 0;       // the pass scale2 is for
+        double scale2 = 1.0;      // (r_i / r_1)^2 of pass scale_pass (+ 1 = i)
+        double first_radius = 0.0, radius = 0.0;  // mean radius of the first and the last pass
+        std::uint64_t seed = 0;   // base of the photon and pixel streams
+        long long photons_emitted = 0;
+        double seconds = 0.0;     // rendering time over every start and resume
+        ErrorEstimate error;
+    };
+
+    /// The estimate from every rank's sums (a collective).
+    ErrorEstimate combined_error(Cluster& cluster, const std::atomic<bool>& cancel);
+
+    ProgressiveAccumulator accumulator_;
+    State state_;
+};
+
+/// One progressive pass (0-based `pass`) over a tile: a jittered sample per pixel, deterministic
+/// per (pixel, pass), added to the accumulator with its photon probes; the pixel's mean goes to
+/// `out`. Pass 0 also sets the pixels' r_1. `radius_only` (pass 0 on a rank that does not own it)
+/// sets r_1 and adds nothing.
+void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
+                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters,
+                              bool radius_only = false);
+
+}  // namespace caustica

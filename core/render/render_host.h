@@ -1,0 +1,72 @@
+// What an integrator's own render loop needs from the session that runs it: the job and the
+// stages the session built and caches, the image with its tiles and how they are published to a
+// viewer, the cancel flag, the other ranks, and the progress and statistics a front end reads.
+// The session keeps the lifecycle (set_job, start, cancel, resume, wait); a loop such as the
+// progressive integrator's (core/integrators/progressive_render.*) decides what each pass does.
+#pragma once
+
+#include "core/render/cluster.h"
+#include "core/render/image.h"
+#include "core/render/render_stats.h"
+#include "core/render/tile_renderer.h"
+#include "core/scene/scene_desc.h"
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+
+namespace caustica {
+
+class RenderScene;
+struct CausticStage;
+struct SessionProgress;
+
+class RenderHost {
+public:
+    /// A tile's work: its index, its rectangle and the calling thread's counters.
+    using TileBody = std::function<void(std::size_t, const Tile&, RayCounters&)>;
+
+    virtual ~RenderHost() = default;
+
+    /// The job being rendered (its size already resolved).
+    virtual const RenderJob& job() const = 0;
+    /// The built scene.
+    virtual const RenderScene& scene() const = 0;
+    /// The cached photon stage of the job (the first pass's photons), null when it has none.
+    virtual const CausticStage* photon_stage() const = 0;
+    /// Set by cancel(), or by Ctrl-C in the batch command.
+    virtual const std::atomic<bool>& cancel_flag() const = 0;
+    /// The ranks rendering this job together; null when alone.
+    virtual Cluster* cluster() const = 0;
+    /// Seconds since this render was started (steady clock).
+    virtual double elapsed_seconds() const = 0;
+
+    /// A coarse pass should be shown before the first full one (the preview's fast first image),
+    /// one sample per block x block square; 0 when not wanted (batch, or already shown).
+    virtual int coarse_preview_block() const = 0;
+    /// A coarse direct-light image was shown before the photons were shot (it counts as a pass).
+    virtual bool direct_preview_shown() const = 0;
+
+    /// The image the viewer copies tiles from, and its tiles.
+    virtual Image& image() = 0;
+    virtual const std::vector<Tile>& tiles() const = 0;
+    /// Runs `body` on every tile on the session's threads, each under its tile's lock and then
+    /// published (a viewer never sees a tile half-written); stops handing out tiles on cancel.
+    /// `stage` names what -t reports and the progress shows; `pass` is the progress's pass number.
+    virtual void run_tiles(const char* stage, int pass, const TileBody& body) = 0;
+    /// Writes every tile with `fill` under its lock and publishes it (no threads).
+    virtual void publish_tiles(const std::function<void(const Tile&)>& fill) = 0;
+    /// The rays the tile bodies counted so far in this render.
+    virtual RayCounters ray_totals() const = 0;
+
+    /// Changes the progress and statistics a front end reads, under their lock.
+    virtual void report(const std::function<void(SessionProgress&, RenderStats&)>& update) = 0;
+    /// Adds a stage time (-t); repeated stages of a loop add up.
+    virtual void add_stage_time(const char* stage, double seconds) = 0;
+    /// Names what is being done now (the progress's stage).
+    virtual void set_stage(const char* stage) = 0;
+    /// Counts photon directions considered by the pass being shot (for progress reports).
+    virtual std::atomic<long long>& photon_progress() = 0;
+};
+
+}  // namespace caustica
