@@ -262,7 +262,7 @@ int render_frame(RenderSession& session, const RenderJob& job, const std::string
         if (p.accumulating) {
             // Passes have no fixed total: the nearest stopping rule gives the fraction.
             double fraction = 0.0;
-            if (o.passes > 0) fraction = std::max(fraction, double(p.passes_done) / o.passes);
+            if (o.pass_limit() > 0) fraction = std::max(fraction, double(p.passes_done) / o.pass_limit());
             if (o.time_limit > 0.0) fraction = std::max(fraction, p.elapsed_seconds / o.time_limit);
             if (o.target_error > 0.0 && p.error.known)
                 fraction = std::max(fraction, std::min(1.0, o.target_error / p.error.relative));

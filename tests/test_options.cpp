@@ -200,3 +200,26 @@ TEST(Options, CommandLineTakesTheScriptOriginOfWhatItSetsInAnyForm) {
     ASSERT_NE(job.option_origin("silent"), nullptr);  // not on the command line: still the script's
     EXPECT_EQ(job.option_origin("silent")->line, 3);
 }
+
+// --time or --target-error alone mean "until that rule"; --passes, when given, still limits.
+TEST(Options, TimeOrTargetErrorAloneLiftThePassLimit) {
+    Options o;
+    EXPECT_EQ(o.pass_limit(), 1);
+    apply_option_tokens(o, {"--integrator", "progressive", "--time", "60"});
+    EXPECT_EQ(o.pass_limit(), 0);
+    EXPECT_TRUE(o.accumulates());
+    EXPECT_EQ(describe_non_default(o), "--integrator progressive --time 60");
+    Options target;
+    apply_option_tokens(target, {"--target-error", "0.05"});
+    EXPECT_EQ(target.pass_limit(), 0);
+    Options both;
+    apply_option_tokens(both, {"--time", "60", "--passes", "1"});
+    EXPECT_EQ(both.pass_limit(), 1);  // given: one accumulating pass within the time
+    EXPECT_EQ(describe_non_default(both), "--passes 1 --time 60");  // told, so it means the same again
+    Options explicit_none;
+    apply_option_tokens(explicit_none, {"--passes", "0", "--time", "5"});
+    EXPECT_EQ(explicit_none.pass_limit(), 0);
+    Options many;
+    apply_option_tokens(many, {"--passes", "16", "--target-error", "0.1"});
+    EXPECT_EQ(many.pass_limit(), 16);
+}

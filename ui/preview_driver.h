@@ -30,9 +30,12 @@ struct StopRules {
     double target_error = 0.0;  ///< estimated relative error, 0 = none
 
     /// The rules of a job's options, and writing them back.
-    static StopRules of(const Options& options) { return {options.passes, options.time_limit, options.target_error}; }
+    static StopRules of(const Options& options) {
+        return {options.pass_limit(), options.time_limit, options.target_error};
+    }
     void apply(Options& options) const {
         options.passes = passes;
+        options.passes_given = true;
         options.time_limit = time_limit;
         options.target_error = target_error;
     }

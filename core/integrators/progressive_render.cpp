@@ -116,7 +116,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
         acc.seed = context.seed;
     }
-    const int limit = options.passes;  // 0 = none
+    const int limit = options.pass_limit();  // 0 = none
     const double segment_start = now_seconds(), seconds_before = acc.seconds;
     auto elapsed = [&] { return seconds_before + host.elapsed_seconds(); };
     const int coarse_block = resumed ? 0 : host.coarse_preview_block();

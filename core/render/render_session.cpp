@@ -136,6 +136,7 @@ void RenderSession::set_stop_rules(int passes, double time_limit, double target_
     cancel();
     if (worker_.joinable()) worker_.join();
     job_.options.passes = passes;
+    job_.options.passes_given = true;
     job_.options.time_limit = time_limit;
     job_.options.target_error = target_error;
 }

@@ -185,10 +185,16 @@ const std::vector<OptionSpec>& option_table() {
         flag("draw-aa", 0, "debug views", "show the anti-aliased pixels in red", &Options::draw_aa),
         flag("reproducible", 0, "sampling", "fixed random streams: identical output for any thread count",
              &Options::reproducible),
-        integer("passes", 0, "sampling",
-                "progressive: passes of fresh photons and jittered pixel samples, averaged while the gather "
-                "radius shrinks (1 = one k-nearest pass; 0 = until --time or --target-error; at most 2^23)",
-                &Options::passes, 0, 8'388'608),
+        {"passes", 0, "N", "sampling",
+         "progressive: passes of fresh photons and jittered pixel samples, averaged while the gather radius "
+         "shrinks (1 = one k-nearest pass, the default without --time or --target-error; 0 = until --time or "
+         "--target-error, the default with either; at most 2^23)",
+         [](Options& o, const std::string& v) {
+             o.passes = static_cast<int>(parse_integer("passes", v, 0, 8'388'608));
+             o.passes_given = true;
+         },
+         // Only a --passes that was given is told: without it the other rules decide the limit.
+         [](const Options& o) { return o.passes_given || o.passes != 1 ? std::to_string(o.passes) : std::string(); }},
         real("time", "sampling", "progressive: start no pass that would end past this many seconds (0 = no limit)",
              &Options::time_limit, 0.0, 1e7),
         real("target-error", "sampling",

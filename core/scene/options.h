@@ -71,9 +71,11 @@ struct Options {
     double script_timeout = 60.0;  ///< seconds of script evaluation, 0 = none
     long long script_memory_mib = 2048;  ///< budget of the script (Lua heap + what it makes C++ hold), 0 = none
     long long seed = 0;            ///< base of the random streams
-    /// Progressive photon mapping (issue 11): passes of fresh photons and pixel samples averaged
-    /// with a shrinking radius. 1 = the single k-nearest pass; 0 = until another rule stops it.
+    /// Progressive photon mapping: passes of fresh photons and pixel samples averaged with a
+    /// shrinking radius. 1 = the single k-nearest pass; 0 = until another rule stops it. Read the
+    /// limit in effect with pass_limit().
     int passes = 1;
+    bool passes_given = false;     ///< --passes was given (else --time or --target-error alone mean "until that rule")
     double time_limit = 0.0;       ///< progressive: no pass that would end past this many seconds (0 = no limit)
     double target_error = 0.0;     ///< progressive: stop once the estimated relative error is below (0 = none)
 
@@ -84,6 +86,12 @@ struct Options {
 
     /// Whether the GI photon map is wanted (--gi or one of its debug views).
     bool gi_wanted() const { return gi || draw_gi_map || draw_gi_only; }
+    /// The pass limit in effect (0 = none): --passes when given (or set to anything but 1); else
+    /// none when --time or --target-error is set ("--time 60" alone renders for 60 s), else one.
+    int pass_limit() const {
+        if (passes_given || passes != 1) return passes;
+        return time_limit > 0.0 || target_error > 0.0 ? 0 : 1;
+    }
     /// Whether the progressive integrator accumulates passes (a stopping rule other than one pass).
     bool accumulates() const {
         return integrator == IntegratorKind::progressive && (passes != 1 || time_limit > 0.0 || target_error > 0.0);

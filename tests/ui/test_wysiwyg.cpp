@@ -106,6 +106,7 @@ TEST(Wysiwyg, PreviewJobIsTheRenderCommandsJob) {
             EXPECT_EQ(differences[0].id, "stop");
             EXPECT_EQ(shown.passes, 0);
             shown.passes = render.passes;
+            shown.passes_given = render.passes_given;
         } else {
             EXPECT_TRUE(differences.empty()) << differences[0].label;
         }
