@@ -13,7 +13,14 @@ namespace caustica {
 
 class ProgressiveIntegrator final : public Integrator {
 public:
-    explicit ProgressiveIntegrator(const ShadingSetup& setup) : setup_(setup) {}
+    /// With --draw-caustics-only the image holds the caustic radiance alone: rays that leave the
+    /// scene are black, whatever the miss colour (the image docs/ACCURACY.md measures errors on).
+    explicit ProgressiveIntegrator(const ShadingSetup& setup) : setup_(setup) {
+        if (setup_.draw_caustics_only) {
+            setup_.miss_colour = glm::vec3(0.0f);
+            setup_.sky = false;
+        }
+    }
 
     const char* name() const override { return "progressive"; }
     PixelSampling pixel_sampling() const override { return PixelSampling::adaptive_neighbours; }
@@ -55,7 +62,7 @@ private:
                                RayCounters& counters) const;
     glm::vec3 debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const;
 
-    const ShadingSetup& setup_;
+    ShadingSetup setup_;
 };
 
 }  // namespace caustica
