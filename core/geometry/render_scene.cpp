@@ -46,11 +46,12 @@ void check_device(RTCDevice device, const char* what) {
 
 /// `v` scaled to unit length (scaled down first, so that its squared length cannot overflow), or
 /// `fallback` when it has no direction.
-glm::vec3 unit_or(const glm::vec3& v, const glm::vec3& fallback) {
-    if (!(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z))) return fallback;
+/// `v` at unit length, or (a normal without direction: a sliver, a cone's apex) the unit vector
+/// against the ray, computed only then.
+glm::vec3 unit_or_against(const glm::vec3& v, const RTCRay& ray) {
     const float m = std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
-    if (!(m > 0.0f)) return fallback;
-    return glm::normalize(v / m);
+    if (m > 0.0f && std::isfinite(m)) return glm::normalize(v / m);
+    return -glm::normalize(glm::vec3(ray.dir_x, ray.dir_y, ray.dir_z));
 }
 
 /// Folds a transform made of a translation and a positive scale into a sphere (uniform scale) or
@@ -328,8 +329,7 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
     if (instance == RTC_INVALID_GEOMETRY_ID) {
         const AnalyticPrimitive& prim = analytic_[rh.hit.primID];
         // A cone's apex has no normal: face the ray there (as for slivers below).
-        hit.normal = unit_or(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
-                             -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z)));
+        hit.normal = unit_or_against(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), rh.ray);
         hit.face = static_cast<int>(rh.hit.u);
         hit.material = prim.material;
         hit.shape_kind = static_cast<int>(prim.shape.kind);
@@ -350,7 +350,7 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
         // Our own winding rule (counter-clockwise = outward, as OBJ files are written), not Embree's.
         const glm::vec3 n = inst.normal_to_world * glm::cross(v1 - v0, v2 - v0);
         // A sliver whose cross product underflows has no direction: face the ray instead.
-        hit.normal = unit_or(n, -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z)));
+        hit.normal = unit_or_against(n, rh.ray);
         hit.material = inst.material;
         if (surface_frames_) fill_mesh_surface(mesh, rh.hit.primID, rh.hit.u, rh.hit.v, inst.object_to_world, hit);
     }
@@ -364,8 +364,7 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
     const user_geometry::CsgHitRecord& record = user_geometry::csg_hit_record(lane);
     const CsgLeaf& leaf = tree.leaf(record.leaf);
     // The normal of the surface the CSG chose, already oriented from its inside medium to its outside.
-    hit.normal = unit_or(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
-                         -glm::normalize(glm::vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z)));
+    hit.normal = unit_or_against(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), rh.ray);
     hit.material = record.material;
     hit.medium_inside = record.medium_inside;
     hit.medium_outside = record.medium_outside;
