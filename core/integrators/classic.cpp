@@ -70,11 +70,8 @@ glm::vec3 ClassicIntegrator::photon_estimate(const PhotonMap& map, const glm::ve
     if (map.size() == 0 || k <= 0) return glm::vec3(0.0f);
     thread_local std::vector<Neighbour> scratch;
     if (scratch.size() < static_cast<std::size_t>(k)) scratch.resize(static_cast<std::size_t>(k));
-    const auto t0 = std::chrono::steady_clock::now();
-    const glm::vec3 e = map.classic_estimate(point, k, setup_.caustic_max_distance, scratch.data()).value;
-    counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ++counters.gathers;
-    return saturate(e);
+    const GatherTimer timer(counters);
+    return saturate(map.classic_estimate(point, k, setup_.caustic_max_distance, scratch.data()).value);
 }
 
 glm::vec3 ClassicIntegrator::photon_dot(const PhotonMap* map, const glm::vec3& point) const {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/geometry/render_scene.h"
+#include "core/photons/photon_grid.h"
 #include "core/photons/photon_map.h"
 #include "core/photons/projection_map.h"
 #include "core/render/random.h"
@@ -40,11 +41,12 @@ struct ShadingSetup {
     int caustic_neighbours = 5;
     float caustic_max_distance = 0.15f;
     PhotonFilter caustic_filter = PhotonFilter::none;  ///< progressive only
-    /// Progressive passes (issue 11): the gather radius is the pixel's r_1 times `radius_scale`;
-    /// r_1 is RayCounters::first_radius when known, else found at the pixel's first gather point
-    /// x as the distance to the N-th photon of `radius_map` (the first pass's map) within the
-    /// maximum distance, or the maximum distance when fewer lie there. Null: the k-nearest estimate.
-    const PhotonMap* radius_map = nullptr;
+    /// Progressive passes: the pass's photons in a hashed grid (null: the k-nearest estimate on
+    /// caustic_map). A gather at path length l from the camera (reflections and refractions
+    /// unfolded) takes the photons within min(caustic_max_distance, footprint_radius l) times
+    /// `radius_scale`: a radius fixed in pixel footprints, shrunk pass by pass.
+    const PhotonGrid* caustic_grid = nullptr;
+    float footprint_radius = 0.0f;
     float radius_scale = 1.0f;
     const PhotonMap* gi_map = nullptr;                 ///< classic --gi
     int gi_neighbours = 100;

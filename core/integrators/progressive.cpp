@@ -126,12 +126,14 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
                            ? glm::vec3(0.0f)
                            : setup_.ambient * kd + direct_light(m, kd, m.ks, hit, n, to_eye, path.known_visibility,
                                                                 random, counters);
-    if (setup_.caustic_map && kd != glm::vec3(0.0f)) colour += caustic_radiance(hit, n, kd, counters);
+    if ((setup_.caustic_map || setup_.caustic_grid) && kd != glm::vec3(0.0f))
+        colour += caustic_radiance(hit, n, kd, path.distance + hit.t, counters);
     if (setup_.draw_caustic_map || !setup_.projection_maps.empty())
         colour = debug_overlays(hit, glm::length(hit.position - ray.origin), colour);
     if (m.reflective && path.depth < setup_.max_depth) {
         PathState next = path;
         next.depth += 1;
+        next.distance = path.distance + hit.t;
         next.known_visibility = nullptr;
         next.weight = path.weight * glm::min(m.ks, glm::vec3(1.0f));
         if (max_component(next.weight) >= setup_.min_weight) {
@@ -144,39 +146,33 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
 }
 
 glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
-                                       RayCounters& counters) const {
+                                                  float distance, RayCounters& counters) const {
     // Every gather also feeds the progressive probes (RayCounters): kd E at the radius and at the
     // inner radius r / sqrt 2, and in a progressive pass the radius.
     auto mean = [](const glm::vec3& c) { return (static_cast<double>(c.x) + c.y + c.z) / 3.0; };
-    const auto t0 = std::chrono::steady_clock::now();
-    glm::vec3 irradiance, inner;
-    thread_local std::vector<Neighbour> scratch;
-    if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
-        scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
-    if (setup_.radius_map) {  // a progressive pass: the pixel's r_1, shrunk
-        if (!(counters.first_radius > 0.0f)) {  // the pixel's first gather: r_1 from the first map
-            const std::uint32_t k = static_cast<std::uint32_t>(setup_.caustic_neighbours);
-            const std::uint32_t found = setup_.radius_map->tree().nearest(hit.position, k, setup_.caustic_max_distance,
-                                                                          scratch.data());
-            counters.first_radius = found == k ? std::sqrt(scratch[0].distance2) : setup_.caustic_max_distance;
-        }
-        const float radius = counters.first_radius * setup_.radius_scale;
+    glm::vec3 irradiance(0.0f), inner(0.0f);
+    if (setup_.caustic_grid) {  // a progressive pass: a radius fixed in pixel footprints, shrunk
+        const float radius = std::min(setup_.caustic_max_distance, setup_.footprint_radius * distance) * setup_.radius_scale;
         if (radius > 0.0f) {
+            const GatherTimer timer(counters);
             counters.radius_log_sum += std::log(static_cast<double>(radius));
             ++counters.radius_samples;
-            irradiance = setup_.caustic_map->disc_estimate(hit.position, n, radius, &inner);
-        } else {
-            irradiance = inner = glm::vec3(0.0f);
+            const PhotonGrid::Gather g = setup_.caustic_grid->gather(hit.position, n, radius);
+            const float area = 3.14159265358979f * radius * radius;
+            irradiance = g.sum / area;
+            inner = g.inner / (0.5f * area);
         }
     } else {
+        const GatherTimer timer(counters);
+        thread_local std::vector<Neighbour> scratch;
+        if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
+            scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
         PhotonMap::Probe probe;
         irradiance = setup_.caustic_map->estimate(hit.position, n, setup_.caustic_neighbours,
                                                   setup_.caustic_max_distance, setup_.caustic_filter,
                                                   scratch.data(), probe);
         inner = probe.inner;
     }
-    counters.gather_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ++counters.gathers;
     // Saturated: a disc of tiny radius can make the estimate overflow.
     const glm::vec3 radiance = kd * saturate(irradiance);
     counters.photon_value += mean(radiance);
@@ -224,6 +220,7 @@ glm::vec3 ProgressiveIntegrator::dielectric(const Ray& ray, const SurfaceHit& hi
     const float eps = setup_.scene->epsilon();
     PathState next = path;
     next.depth += 1;
+    next.distance = path.distance + hit.t;
     next.known_visibility = nullptr;
     if (reflectance > 0.0f) {
         next.weight = path.weight * glm::min(specular, glm::vec3(1.0f)) * reflectance;

@@ -44,6 +44,7 @@ private:
         /// no more than 1 / min_weight of them are traced: ks = 1e6 glass cannot make the
         /// reflection/refraction tree grow as 2^depth.
         glm::vec3 weight{1.0f};
+        float distance = 0.0f;  ///< path length from the camera to the ray's origin
         MediumStack media;
         const float* known_visibility = nullptr;  ///< per light, from packets; primary hits only
     };
@@ -58,7 +59,8 @@ private:
                          const glm::vec3& kd, const PathState& path, RandomStream& random,
                          RayCounters& counters) const;
     float medium_index(int material) const;
-    glm::vec3 caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
+    /// kd E at a diffuse hit `distance` along the path from the camera.
+    glm::vec3 caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd, float distance,
                                RayCounters& counters) const;
     glm::vec3 debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const;
 

@@ -51,7 +51,6 @@ void ProgressiveAccumulator::reset(int width, int height) {
     height_ = height;
     const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
     sums_.assign(pixels * sums_per_pixel, 0);
-    first_radius_.assign(pixels, 0.0f);
 }
 
 glm::vec3 ProgressiveAccumulator::add(std::size_t index, const PassSample& sample) {
@@ -92,7 +91,7 @@ Image ProgressiveAccumulator::image() const {
 
 ErrorEstimate ProgressiveAccumulator::estimate_error() const {
     ErrorEstimate e;
-    const std::size_t pixels = first_radius_.size();
+    const std::size_t pixels = sums_.size() / sums_per_pixel;
     auto at = [&](std::size_t i, Slot slot) { return static_cast<double>(sums_[i * sums_per_pixel + slot]); };
     std::vector<double> lit;
     for (std::size_t i = 0; i < pixels; ++i)

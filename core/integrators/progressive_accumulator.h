@@ -46,7 +46,7 @@ inline constexpr int max_accumulated_passes = 1 << 23;
 /// bits one process gets (issue 13). Colour is held to 2^-40 (two int64 per channel, up to 2^31
 /// per sample); the error statistics to 2^-16 with exact squares (two int64 each), so a pixel
 /// that does not change between passes has a variance of exactly 0. Up to max_accumulated_passes
-/// passes. 116 bytes per pixel.
+/// passes. 112 bytes per pixel.
 class ProgressiveAccumulator {
 public:
     /// int64 sums per pixel (see sums()).
@@ -64,11 +64,6 @@ public:
 
     /// The mean colour of a pixel (black before its first sample).
     glm::vec3 mean(std::size_t pixel) const;
-    /// A pixel's first gather radius r_1: found by the first pass (pass 0) at the pixel's first
-    /// gather, 0 when that pass gathered nothing there (later passes then find a radius at each
-    /// gather, so that no pass depends on another but the first).
-    float first_radius(std::size_t pixel) const { return first_radius_[pixel]; }
-    void set_first_radius(std::size_t pixel, float radius) { first_radius_[pixel] = radius; }
     /// Samples a pixel has (passes that reached it).
     std::uint32_t samples(std::size_t pixel) const {
         return static_cast<std::uint32_t>(sums_[pixel * sums_per_pixel + count_slot]);
@@ -82,11 +77,10 @@ public:
 
     /// Bytes held: fixed by the image size.
     std::size_t memory_bytes() const {
-        return sums_.capacity() * sizeof(std::int64_t) + first_radius_.capacity() * sizeof(float);
+        return sums_.capacity() * sizeof(std::int64_t);
     }
 
-    /// The integer sums, sums_per_pixel per pixel in pixel order: what ranks add together. The
-    /// radii are not in it (every rank finds the same ones).
+    /// The integer sums, sums_per_pixel per pixel in pixel order: what ranks add together.
     std::vector<std::int64_t>& sums() { return sums_; }
     const std::vector<std::int64_t>& sums() const { return sums_; }
 
@@ -102,7 +96,6 @@ private:
     bool counts_empty() const { return sums_.empty(); }
     int width_ = 0, height_ = 0;
     std::vector<std::int64_t> sums_;
-    std::vector<float> first_radius_;
 };
 
 }  // namespace caustica

@@ -1,6 +1,8 @@
 #include "core/integrators/progressive_render.h"
 
+#include "core/geometry/render_scene.h"
 #include "core/photons/caustic_stage.h"
+#include "core/scene/camera.h"
 #include "core/render/random.h"
 #include "core/render/render_session.h"
 
@@ -25,6 +27,27 @@ long long photon_directions(const CausticStage& stage) {
     return directions;
 }
 
+/// The first gather radius most pixels will use: --accumulation-radius pixel footprints at the
+/// median distance pixel-centre rays of a 16 x 16 grid travel to the scene, at most the maximum
+/// distance (the grid's cell size before any gather has told).
+double typical_first_radius(const RenderScene& scene, const Camera& camera, const RenderJob& job,
+                            const ShadingSetup& setup) {
+    std::vector<float> distances;
+    constexpr int samples = 16;
+    for (int j = 0; j < samples; ++j)
+        for (int i = 0; i < samples; ++i) {
+            SurfaceHit hit;
+            const Ray ray = camera.generate((i + 0.5f) * static_cast<float>(job.width) / samples,
+                                            (j + 0.5f) * static_cast<float>(job.height) / samples);
+            if (scene.intersect(ray, hit)) distances.push_back(hit.t);
+        }
+    if (distances.empty()) return setup.caustic_max_distance;
+    std::nth_element(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2), distances.end());
+    const double median = distances[distances.size() / 2];
+    return std::min(static_cast<double>(setup.caustic_max_distance),
+                    job.options.accumulation_radius * setup.dot_radius_per_distance * median);
+}
+
 /// Debug builds check every pixel: a NaN or infinity is a bug to find, not a value to clamp.
 inline void check_pixel([[maybe_unused]] const glm::vec3& c, [[maybe_unused]] int x, [[maybe_unused]] int y) {
 #ifndef NDEBUG
@@ -36,7 +59,7 @@ inline void check_pixel([[maybe_unused]] const glm::vec3& c, [[maybe_unused]] in
 }  // namespace
 
 void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
-                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters, bool radius_only) {
+                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters) {
     // The probes are read from zero around each ray (then added back), so that what a pixel gets
     // does not depend on what else the thread's counters summed: the same bits for any thread count.
     const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
@@ -48,13 +71,8 @@ void render_accumulation_tile(const TileContext& context, const Tile& tile, int 
             RandomStream random(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
             const float px = static_cast<float>(x) + random.uniform(), py = static_cast<float>(y) + random.uniform();
             counters.photon_value = counters.photon_value_inner = 0.0;
-            counters.first_radius = accumulator.first_radius(index);
             PassSample sample;
             sample.colour = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
-            // r_1 is the first pass's alone: a later pass that gathers where the first did not
-            // finds its own radius at each gather and keeps none (no pass depends on another).
-            if (pass == 0 && counters.first_radius > 0.0f) accumulator.set_first_radius(index, counters.first_radius);
-            if (radius_only) continue;
             sample.photon = counters.photon_value;
             sample.photon_inner = counters.photon_value_inner;
             photon_total += sample.photon;
@@ -95,12 +113,11 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     // Progressive photon mapping, memoryless (Knaus & Zwicker 2011; docs/CAUSTICS.md): pass i
     // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
     // (i + 1); each pixel averages its passes' jittered samples. Noise and bias both vanish as
-    // passes grow, in memory fixed by the image size. r_1(x) is where the first pass's map has its
-    // N-th nearest photon from the first pass's gather point in the pixel (capped by the maximum
-    // distance): small where photons crowd.
-    // Every pass depends on the first alone (its map and radii), so passes can run anywhere: with
-    // K ranks the passes go in rounds, rank k running pass round K + k; the ranks that do not own
-    // pass 0 trace it for the radii alone. Their integer sums add up to one process's.
+    // passes grow, in memory fixed by the image size. r_1 at a gather is --accumulation-radius
+    // pixel footprints there (the path length from the camera times a pixel's angle; at most the
+    // maximum distance): the blur starts below a few pixels wherever the caustic is seen.
+    // No pass depends on another, so passes can run anywhere: with K ranks the passes go in
+    // rounds, rank k running pass round K + k. Their integer sums add up to one process's.
     constexpr double alpha = 2.0 / 3.0;
     const RenderJob& job = host.job();
     const Options& options = job.options;
@@ -146,34 +163,27 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             render_coarse_tile(context, tile, coarse_block, image, c);
         });
     }
-    // What pass p gathers with: its map, the first pass's radii scaled by (r_p / r_1).
-    auto pass_setup_for = [&](const PhotonMap* map, int p) {
+    // What pass p gathers with: its photons in a grid, the first radius scaled by (r_p / r_1).
+    auto pass_setup_for = [&](int p) {
         while (acc.scale_pass < p) {  // the same sequence of roundings whichever rank walks it
             acc.scale2 = next_radius2(acc.scale2, acc.scale_pass + 1, alpha);
             ++acc.scale_pass;
         }
         ShadingSetup pass_setup = setup;
-        pass_setup.caustic_map = map;
-        pass_setup.radius_map = has_photons ? first_stage->map.get() : nullptr;
+        pass_setup.caustic_map = nullptr;
+        pass_setup.caustic_grid = has_photons ? &grid_ : nullptr;
+        pass_setup.footprint_radius = static_cast<float>(options.accumulation_radius) * setup.dot_radius_per_distance;
         // One random point of each area light per pass: soft shadows converge over the passes
         // like everything else, with no grid pattern and n^2 fewer shadow rays a pass.
         pass_setup.shadow_grid = 1;
         pass_setup.radius_scale = static_cast<float>(std::sqrt(acc.scale2));
         return pass_setup;
     };
-    if (shared && !resumed && rank != 0 && !cancel) {
-        const ShadingSetup first_setup = pass_setup_for(has_photons ? first_stage->map.get() : nullptr, 0);
-        const std::unique_ptr<Integrator> first_integrator = make_integrator(options.integrator, first_setup);
-        TileContext first_context = context;
-        first_context.integrator = first_integrator.get();
-        first_context.seed = acc.seed;
-        // Its own counters: the rays of this repeat are not the image's (statistics sum them).
-        host.run_tiles("first radii", 0, [&](std::size_t, const Tile& tile, RayCounters&) {
-            RayCounters repeat;
-            render_accumulation_tile(first_context, tile, 0, accumulator_, image, repeat, true);
-        });
-    }
-    double last_round_seconds = 0.0, radius_log_before = 0.0;
+    // The grid's cells are twice the radius most gathers use (a function of the scene and the
+    // pass alone: every rank sorts a pass's photons into the same cells, so sums are the same bits).
+    if (has_photons && acc.typical_radius <= 0.0)
+        acc.typical_radius = typical_first_radius(host.scene(), *context.camera, job, setup);
+    double last_round_seconds = 0.0, radius_log_before = 0.0, grid_seconds = 0.0;
     std::uint64_t radius_samples_before = 0;
     int next_error_check = 0;  // shared: the round whose end estimates the error (with --target-error)
     std::string stopped_by = "passes";
@@ -202,12 +212,13 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         std::unique_ptr<CausticStage> fresh;
         long long round_photons = 0;
         if (mine) {
-            const PhotonMap* map = has_photons ? first_stage->map.get() : nullptr;
+            const std::vector<Photon>* photons = has_photons ? &first_stage->map->photons() : nullptr;
             if (p > 0 && has_photons) {
                 PhotonPassExtras extras;
                 extras.seed = hash_combine(acc.seed ^ 0x7061737365730000ULL, static_cast<std::uint64_t>(p));
                 extras.first = first_stage;
                 extras.progress = &host.photon_progress();
+                extras.photons_only = true;
                 host.photon_progress() = 0;
                 host.report([&](SessionProgress& progress, RenderStats&) {
                     progress.photons_done = 0;
@@ -220,10 +231,15 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                     stopped_by = "cancelled";
                     break;
                 }
-                map = fresh->map.get();
+                photons = &fresh->photons;
             }
-            if (has_photons) round_photons = photon_directions(fresh ? *fresh : *first_stage);
-            const ShadingSetup pass_setup = pass_setup_for(map, p);
+            const ShadingSetup pass_setup = pass_setup_for(p);
+            if (photons) {
+                const auto t_grid = std::chrono::steady_clock::now();
+                grid_.build(*photons, static_cast<float>(2.0 * acc.typical_radius * std::sqrt(acc.scale2)));
+                grid_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_grid).count();
+                round_photons = photon_directions(fresh ? *fresh : *first_stage);
+            }
             const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
             TileContext pass_context = context;
             pass_context.integrator = pass_integrator.get();
@@ -283,11 +299,13 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             progress.error = acc.error;
             if (fresh) {
                 stats.caustic_lights = fresh->lights;
-                stats.caustic_photons = fresh->map ? fresh->map->size() : 0;
-                stats.caustic_map_bytes = fresh->map ? fresh->map->memory_bytes() : 0;
+                stats.caustic_photons = fresh->photons.size();
+                stats.caustic_map_bytes = grid_.memory_bytes();
             }
         });
-        if (fresh) host.add_stage_time("photon passes", fresh->map_seconds + fresh->shoot_seconds + fresh->tree_seconds);
+        if (fresh || grid_seconds > 0.0)
+            host.add_stage_time("photon passes", (fresh ? fresh->map_seconds + fresh->shoot_seconds : 0.0) + grid_seconds);
+        grid_seconds = 0.0;
     }
     if (shared) {
         // Every rank's sums on rank 0, which makes the image and the estimate one process makes.

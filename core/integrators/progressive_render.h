@@ -35,6 +35,7 @@ private:
         int scale_pass = 0;       // the pass scale2 is for
         double scale2 = 1.0;      // (r_i / r_1)^2 of pass scale_pass (+ 1 = i)
         double first_radius = 0.0, radius = 0.0;  // mean radius of the first and the last pass
+        double typical_radius = 0.0;  // the first radius of a typical gather (the grid's cells)
         std::uint64_t seed = 0;   // base of the photon and pixel streams
         long long photons_emitted = 0;
         double seconds = 0.0;     // rendering time over every start and resume
@@ -46,14 +47,13 @@ private:
 
     ProgressiveAccumulator accumulator_;
     State state_;
+    PhotonGrid grid_;  // the pass's photons (its buffers reused pass after pass)
 };
 
 /// One progressive pass (0-based `pass`) over a tile: a jittered sample per pixel, deterministic
 /// per (pixel, pass), added to the accumulator with its photon probes; the pixel's mean goes to
-/// `out`. Pass 0 also sets the pixels' r_1. `radius_only` (pass 0 on a rank that does not own it)
-/// sets r_1 and adds nothing.
+/// `out`.
 void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
-                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters,
-                              bool radius_only = false);
+                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters);
 
 }  // namespace caustica

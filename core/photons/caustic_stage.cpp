@@ -142,7 +142,10 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     stage.projection_maps = std::move(pass.maps);
     const auto t0 = std::chrono::steady_clock::now();
     if (cancel && cancel->load()) return;  // a cancelled pass is thrown away: no tree for it
-    if (settings.photons_per_light > 0) stage.map = std::make_unique<PhotonMap>(std::move(pass.photons));
+    if (extras.photons_only)
+        stage.photons = std::move(pass.photons);
+    else if (settings.photons_per_light > 0)
+        stage.map = std::make_unique<PhotonMap>(std::move(pass.photons));
     stage.tree_seconds = seconds_since(t0);
 }
 

@@ -38,6 +38,9 @@ struct CausticStage {
     std::uint64_t key = 0;                   ///< caustic_fingerprint it was built for (0 = none)
     std::unique_ptr<PhotonMap> map;          ///< the caustic map; null when the job has no caustics
     std::unique_ptr<PhotonMap> gi_map;       ///< classic GI map; null unless gi_wanted()
+    /// A later progressive pass's photons as they were stored (PhotonPassExtras::photons_only):
+    /// the pass loop sorts them into its own grid, no k-d tree is built.
+    std::vector<Photon> photons;
     std::vector<ProjectionMap> projection_maps;
     std::vector<glm::vec3> light_positions;
     std::vector<LightCausticStats> lights;     ///< the caustic pass of each light
@@ -62,6 +65,7 @@ struct PhotonPassExtras {
     std::uint64_t seed = 0;              ///< the pass's photon stream (used when `first` is set)
     const CausticStage* first = nullptr; ///< the first pass: its projection maps are reused
     std::atomic<long long>* progress = nullptr;  ///< counts directions considered
+    bool photons_only = false;           ///< keep the photons in CausticStage::photons, build no map
 };
 
 /// A progressive integrator's photon pass (issue 11): with `extras.first`, a fresh photon stream

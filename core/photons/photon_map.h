@@ -35,6 +35,8 @@ public:
     PhotonMap() = default;
     /// Builds the k-D tree (O(n log n)) and stores the photons in its order.
     explicit PhotonMap(std::vector<Photon> photons);
+    /// The photons, in tree order.
+    const std::vector<Photon>& photons() const { return photons_; }
 
     /// Irradiance-like estimate at a surface point with unit normal `n` (facing the viewer):
     /// the power of the `k` nearest photons within `max_distance` arriving from the front side,

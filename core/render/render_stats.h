@@ -1,6 +1,7 @@
 // Counters and stage times of a render, for -S and -t.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -16,17 +17,14 @@ struct RayCounters {
     std::uint64_t samples = 0;           ///< camera samples taken
     std::uint64_t supersampled_pixels = 0;
     std::uint64_t gathers = 0;           ///< caustic radiance estimates
-    double gather_seconds = 0.0;         ///< time spent in them (summed over threads)
-    // Progressive photon mapping's probes (issue 11), read per camera ray by the tile renderer:
-    // the gathered photon radiance kd E (mean of the channels) at the pass radius r and at r/sqrt 2
-    // (their difference estimates the radius bias), and the N-th neighbour distances of the
-    // first pass's k-nearest gathers (their geometric mean is the first radius).
+    double gather_seconds = 0.0;         ///< time spent in them (summed over threads; see GatherTimer)
+    // Progressive photon mapping's probes, read per camera ray by the pass loop: the gathered
+    // photon radiance kd E (mean of the channels) at the pass radius r and at r/sqrt 2 (their
+    // difference estimates the radius bias), and the logarithms of the radii gathered with (their
+    // geometric mean is the pass's radius, for reports).
     double photon_value = 0.0, photon_value_inner = 0.0;
     double radius_log_sum = 0.0;
     std::uint64_t radius_samples = 0;
-    /// In and out around one camera ray of a progressive pass (not summed): the pixel's first
-    /// radius r_1 when known (else 0), set by the first gather that computes it.
-    float first_radius = 0.0f;
 
     RayCounters& operator+=(const RayCounters& o) {
         primary += o.primary, shadow += o.shadow, reflected += o.reflected, refracted += o.refracted;
@@ -37,6 +35,27 @@ struct RayCounters {
         return *this;
     }
     std::uint64_t total_rays() const { return primary + shadow + reflected + refracted; }
+};
+
+/// Times one gather in every 32 (reading the clock costs as much as a small gather) and counts it
+/// 32 times: the statistics' share of time in radiance estimates, without its own cost.
+class GatherTimer {
+public:
+    explicit GatherTimer(RayCounters& counters)
+        : counters_(counters), timed_((counters.gathers & 31) == 0) {
+        if (timed_) start_ = std::chrono::steady_clock::now();
+    }
+    ~GatherTimer() {
+        if (timed_) counters_.gather_seconds += 32.0 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        ++counters_.gathers;
+    }
+    GatherTimer(const GatherTimer&) = delete;
+    GatherTimer& operator=(const GatherTimer&) = delete;
+
+private:
+    RayCounters& counters_;
+    bool timed_;
+    std::chrono::steady_clock::time_point start_;
 };
 
 /// One timed stage ("scene build", "first pass", ...).
@@ -79,7 +98,7 @@ struct RenderStats {
     /// Progressive passes (issue 11); passes = 0 when the render did not accumulate.
     struct Accumulation {
         int passes = 0;
-        double first_radius = 0.0, radius = 0.0;  ///< r_1 and the radius of the last pass
+        double first_radius = 0.0, radius = 0.0;  ///< geometric mean gather radius of the first and the last pass
         long long photons_emitted = 0;            ///< directions over every pass
         double error = -1.0, noise = 0.0, bias = 0.0;  ///< estimated relative error (< 0: unknown)
         std::size_t bytes = 0;                    ///< the accumulation buffers

@@ -247,6 +247,10 @@ const std::vector<OptionSpec>& option_table() {
                 "each light's map holds 2 G^2 cells (one byte and one ray each: 33.5 million at 4096)"),
         real("caustic-max-dist", "caustics", "maximum gather distance (default 0.15 x unit distance)",
              &Options::caustic_max_dist, 0.0, huge, true),
+        real("accumulation-radius", "caustics",
+             "progressive accumulation: the first gather radius, in pixel footprints where it gathers (shrinking "
+             "pass by pass; at most --caustic-max-dist)",
+             &Options::accumulation_radius, 1e-3, 1e3),
         choice<ProjectionMapMode>("projection-map", "MODE", "caustics",
                                   "auto|on|off: use light projection maps when shooting photons", &Options::projection_map,
                                   {{"auto", ProjectionMapMode::automatic},

@@ -60,6 +60,7 @@ struct Options {
     IntegratorKind integrator = IntegratorKind::classic;
     int caustic_pm_gran = 180;
     double caustic_max_dist = -1.0;  ///< < 0: 0.15 x unit distance
+    double accumulation_radius = 3.0;  ///< progressive accumulation: first gather radius in pixel footprints
     ProjectionMapMode projection_map = ProjectionMapMode::automatic;
     int shadow_grid = 4;
     double unit_distance = 1.0;

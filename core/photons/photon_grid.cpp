@@ -1,0 +1,207 @@
+#include "core/photons/photon_grid.h"
+
+#include "core/render/random.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace caustica {
+namespace {
+
+// Buckets hold their photons in runs padded to whole lanes: a scan is a loop of full vectors.
+constexpr std::uint32_t lanes = 8;
+// Padding photons lie far outside any gather.
+constexpr float far_away = std::numeric_limits<float>::max();
+
+typedef float Lanes __attribute__((vector_size(lanes * sizeof(float))));
+// A block: 8 photons' x, y, z, r, g, b, direction x, y, z, 8 floats each.
+constexpr std::size_t block_floats = 9 * lanes;
+
+/// A cell coordinate, kept finite and within a range the hash mixes well.
+std::int64_t cell_coordinate(float x, float inverse_cell) {
+    const double c = std::floor(static_cast<double>(x) * static_cast<double>(inverse_cell));
+    return static_cast<std::int64_t>(std::clamp(c, -1e15, 1e15));
+}
+
+struct Scan {
+    Lanes sum_r, sum_g, sum_b, inner_r, inner_g, inner_b, count;
+};
+
+/// Scans the runs (block ranges) of `blocks`: the lane sums of the photons within r2 of p arriving
+/// against n (and within r2 / 2). Compiled twice, for AVX2 and for the baseline, the right one
+/// chosen when the program loads; the sums are the same bits either way (each lane adds its own
+/// photons in order, the lanes are added at the end in a fixed order).
+__attribute__((target_clones("avx2", "default"))) void scan_runs(const float* blocks, const std::uint32_t* runs,
+                                                                  int run_count, const glm::vec3& p, const glm::vec3& n,
+                                                                  float r2, Scan& out) {
+    const Lanes px = {p.x, p.x, p.x, p.x, p.x, p.x, p.x, p.x}, py = {p.y, p.y, p.y, p.y, p.y, p.y, p.y, p.y},
+                pz = {p.z, p.z, p.z, p.z, p.z, p.z, p.z, p.z};
+    const Lanes nx = {n.x, n.x, n.x, n.x, n.x, n.x, n.x, n.x}, ny = {n.y, n.y, n.y, n.y, n.y, n.y, n.y, n.y},
+                nz = {n.z, n.z, n.z, n.z, n.z, n.z, n.z, n.z};
+    const float h2 = 0.5f * r2;
+    const Lanes outer = {r2, r2, r2, r2, r2, r2, r2, r2}, inner = {h2, h2, h2, h2, h2, h2, h2, h2};
+    const Lanes zero = {}, one = zero + 1.0f;
+    Scan s{zero, zero, zero, zero, zero, zero, zero};
+    for (int run = 0; run < run_count; ++run) {
+        for (std::uint32_t block = runs[2 * run]; block < runs[2 * run + 1]; ++block) {
+            const float* f = blocks + static_cast<std::size_t>(block) * block_floats;
+            Lanes x, y, z, r, g, b, dx, dy, dz;
+            std::memcpy(&x, f, sizeof x);
+            std::memcpy(&y, f + lanes, sizeof y);
+            std::memcpy(&z, f + 2 * lanes, sizeof z);
+            std::memcpy(&r, f + 3 * lanes, sizeof r);
+            std::memcpy(&g, f + 4 * lanes, sizeof g);
+            std::memcpy(&b, f + 5 * lanes, sizeof b);
+            std::memcpy(&dx, f + 6 * lanes, sizeof dx);
+            std::memcpy(&dy, f + 7 * lanes, sizeof dy);
+            std::memcpy(&dz, f + 8 * lanes, sizeof dz);
+            const Lanes ex = x - px, ey = y - py, ez = z - pz;
+            const Lanes d2 = ex * ex + ey * ey + ez * ez;
+            const auto front = dx * nx + dy * ny + dz * nz < zero;
+            const Lanes w = ((d2 < outer) & front) ? one : zero, wi = ((d2 < inner) & front) ? one : zero;
+            s.sum_r += w * r;
+            s.sum_g += w * g;
+            s.sum_b += w * b;
+            s.inner_r += wi * r;
+            s.inner_g += wi * g;
+            s.inner_b += wi * b;
+            s.count += w;
+        }
+    }
+    out = s;
+}
+
+float lane_total(const Lanes& v) {
+    float t = 0.0f;
+    for (std::uint32_t i = 0; i < lanes; ++i) t += v[i];
+    return t;
+}
+
+}  // namespace
+
+std::uint64_t PhotonGrid::bucket_of(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    // Cells are hashed by blocks of 2 x 2 x 2 whose 8 buckets are adjacent: the cells a gather
+    // overlaps mostly share a block, so their run starts share a cache line.
+    const std::uint64_t h = static_cast<std::uint64_t>(i >> 1) * 0x9E3779B185EBCA87ULL ^
+                            static_cast<std::uint64_t>(j >> 1) * 0xC2B2AE3D27D4EB4FULL ^
+                            static_cast<std::uint64_t>(k >> 1) * 0x165667B19E3779F9ULL;
+    const std::uint64_t within = static_cast<std::uint64_t>((i & 1) | ((j & 1) << 1) | ((k & 1) << 2));
+    return ((mix64(h) << 3) | within) & mask_;
+}
+
+void PhotonGrid::build(const std::vector<Photon>& photons, float cell) {
+    cell_ = cell > 0.0f && std::isfinite(cell) ? cell : 1.0f;
+    inverse_cell_ = 1.0f / cell_;
+    const std::size_t n = photons.size();
+    std::uint64_t buckets = 16;
+    while (buckets < n) buckets *= 2;
+    mask_ = buckets - 1;
+    // Each photon's bucket (in parallel), then a counting sort in photon order (deterministic).
+    scratch_.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const glm::vec3& q = photons[i].position;
+            scratch_[i] = static_cast<std::uint32_t>(bucket_of(cell_coordinate(q.x, inverse_cell_),
+                                                               cell_coordinate(q.y, inverse_cell_),
+                                                               cell_coordinate(q.z, inverse_cell_)));
+        }
+    });
+    start_.assign(buckets + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++start_[scratch_[i] + 1];
+    // Runs of whole blocks: start_ counts blocks.
+    std::uint64_t total = 0;
+    for (std::uint64_t b = 1; b <= buckets; ++b) {
+        const std::uint32_t count = start_[b];
+        start_[b] = static_cast<std::uint32_t>(total + (count + lanes - 1) / lanes);
+        total = start_[b];
+    }
+    start_[0] = 0;
+    // Padding photons lie far away and arrive from nowhere (direction 0): never gathered.
+    blocks_.assign(total * block_floats, 0.0f);
+    for (std::uint64_t block = 0; block < total; ++block)
+        std::fill_n(blocks_.data() + block * block_floats, 3 * lanes, far_away);
+    std::vector<std::uint32_t> cursor(buckets, 0);  // photons placed in each bucket so far
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t bucket = scratch_[i];
+        const std::uint32_t slot = cursor[bucket]++;
+        float* f = blocks_.data() + (static_cast<std::size_t>(start_[bucket]) + slot / lanes) * block_floats + slot % lanes;
+        const Photon& photon = photons[i];
+        const float values[9] = {photon.position.x, photon.position.y, photon.position.z,
+                                 photon.power.x,    photon.power.y,    photon.power.z,
+                                 photon.direction.x, photon.direction.y, photon.direction.z};
+        for (int c = 0; c < 9; ++c) f[c * lanes] = values[c];
+    }
+    photons_ = n;
+}
+
+PhotonGrid::Gather PhotonGrid::gather(const glm::vec3& p, const glm::vec3& n, float radius) const {
+    Gather g;
+    if (photons_ == 0 || !(radius > 0.0f)) return g;
+    // The buckets of the cells the sphere of `radius` overlaps, each once.
+    const std::int64_t lo[3] = {cell_coordinate(p.x - radius, inverse_cell_), cell_coordinate(p.y - radius, inverse_cell_),
+                                cell_coordinate(p.z - radius, inverse_cell_)};
+    const std::int64_t hi[3] = {cell_coordinate(p.x + radius, inverse_cell_), cell_coordinate(p.y + radius, inverse_cell_),
+                                cell_coordinate(p.z + radius, inverse_cell_)};
+    constexpr int max_inline = 64;
+    std::uint64_t inline_buckets[max_inline];
+    std::vector<std::uint64_t> many;
+    std::uint64_t* buckets = inline_buckets;
+    const std::int64_t cells = (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+    if (cells > max_inline) {
+        many.resize(static_cast<std::size_t>(std::min<std::int64_t>(cells, static_cast<std::int64_t>(mask_ + 1))));
+        buckets = many.data();
+    }
+    std::size_t count = 0;
+    if (cells > static_cast<std::int64_t>(mask_ + 1)) {  // more cells than buckets: every bucket
+        for (std::uint64_t b = 0; b <= mask_; ++b) buckets[count++] = b;
+    } else {
+        for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+            for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+                for (std::int64_t k = lo[2]; k <= hi[2]; ++k) buckets[count++] = bucket_of(i, j, k);
+        if (count <= 8) {  // the usual case: drop repeats in place, keeping the cells' order
+            std::size_t kept = 0;
+            for (std::size_t c = 0; c < count; ++c) {
+                bool seen = false;
+                for (std::size_t d = 0; d < kept; ++d) seen |= buckets[d] == buckets[c];
+                if (!seen) buckets[kept++] = buckets[c];
+            }
+            count = kept;
+        } else {
+            std::sort(buckets, buckets + count);
+            count = static_cast<std::size_t>(std::unique(buckets, buckets + count) - buckets);
+        }
+    }
+    // The runs of the non-empty buckets, in bucket order.
+    std::uint32_t inline_runs[2 * max_inline];
+    std::vector<std::uint32_t> many_runs;
+    std::uint32_t* runs = inline_runs;
+    if (count > static_cast<std::size_t>(max_inline)) {
+        many_runs.resize(2 * count);
+        runs = many_runs.data();
+    }
+    int run_count = 0;
+    for (std::size_t b = 0; b < count; ++b) {
+        const std::uint32_t first = start_[buckets[b]], last = start_[buckets[b] + 1];
+        if (first == last) continue;
+        runs[2 * run_count] = first;
+        runs[2 * run_count + 1] = last;
+        ++run_count;
+    }
+    Scan s;
+    scan_runs(blocks_.data(), runs, run_count, p, n, radius * radius, s);
+    g.sum = glm::vec3(lane_total(s.sum_r), lane_total(s.sum_g), lane_total(s.sum_b));
+    g.inner = glm::vec3(lane_total(s.inner_r), lane_total(s.inner_g), lane_total(s.inner_b));
+    g.count = static_cast<std::uint32_t>(lane_total(s.count));
+    return g;
+}
+
+std::size_t PhotonGrid::memory_bytes() const {
+    return (start_.capacity() + scratch_.capacity()) * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(float);
+}
+
+}  // namespace caustica
