@@ -219,6 +219,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 extras.first = first_stage;
                 extras.progress = &host.photon_progress();
                 extras.photons_only = true;
+                extras.pass = p;
                 host.photon_progress() = 0;
                 host.report([&](SessionProgress& progress, RenderStats&) {
                     progress.photons_done = 0;

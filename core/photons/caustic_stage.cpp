@@ -121,6 +121,8 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.projection_map_granularity = o.caustic_pm_gran;
     settings.emission = o.photon_random_emission ? PhotonEmission::random : PhotonEmission::low_discrepancy;
     settings.seed = extras.first ? extras.seed : stage_seed(o);
+    settings.sequence_seed = extras.first ? extras.first->sequence_seed : settings.seed;
+    settings.pass = extras.pass;
     settings.max_depth = o.max_depth;
     settings.progress = extras.progress;
     if (extras.first) {  // a later pass: the first pass's projection maps, as it used them
@@ -140,6 +142,7 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
         stage.light_positions.push_back(lights[l].position);
     }
     stage.projection_maps = std::move(pass.maps);
+    stage.sequence_seed = settings.sequence_seed;
     const auto t0 = std::chrono::steady_clock::now();
     if (cancel && cancel->load()) return;  // a cancelled pass is thrown away: no tree for it
     if (extras.photons_only)

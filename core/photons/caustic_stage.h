@@ -47,6 +47,7 @@ struct CausticStage {
     std::vector<LightCausticStats> gi_lights;  ///< the GI pass of each light (classic with GI only)
     std::vector<std::string> warnings;
     double map_seconds = 0.0, shoot_seconds = 0.0, tree_seconds = 0.0;
+    std::uint64_t sequence_seed = 0;  ///< progressive: the rotation of the directions' sequence
 };
 
 /// Builds the stage for a job (maps, photons, trees) for job.options.integrator. Throws
@@ -66,6 +67,7 @@ struct PhotonPassExtras {
     const CausticStage* first = nullptr; ///< the first pass: its projection maps are reused
     std::atomic<long long>* progress = nullptr;  ///< counts directions considered
     bool photons_only = false;           ///< keep the photons in CausticStage::photons, build no map
+    int pass = 0;                        ///< the pass's index (its place in the directions' sequence)
 };
 
 /// A progressive integrator's photon pass (issue 11): with `extras.first`, a fresh photon stream

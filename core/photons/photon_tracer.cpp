@@ -199,59 +199,117 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         // Refuse before anything is allocated for photons; margin for the map's padding.
         expected_photons += static_cast<double>(count) * (map ? std::min(1.0, 1.1 * report.occupied_fraction) : 1.0);
         check_photon_memory(expected_photons, count, settings.memory_budget_bytes);
-        const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
         const auto t0 = std::chrono::steady_clock::now();
-        const long long blocks = (count + block_size - 1) / block_size;
-        std::vector<std::vector<Photon>> stored(static_cast<std::size_t>(blocks));
-        std::vector<long long> traced(static_cast<std::size_t>(blocks), 0);
-        RandomStream rotation_stream(settings.seed, 0x70686f746f6e ^ l, 7);
-        const float rotate_u = rotation_stream.uniform(), rotate_v = rotation_stream.uniform();
-        tbb::parallel_for(tbb::blocked_range<long long>(0, blocks, 1), [&](const tbb::blocked_range<long long>& r) {
-            const ScopedFlushDenormals flush;
-            for (long long b = r.begin(); b != r.end(); ++b) {
-                if (cancel && cancel->load(std::memory_order_relaxed)) return;
-                const long long begin = b * block_size, end = std::min(count, (b + 1) * block_size);
-                if (settings.progress) settings.progress->fetch_add(end - begin, std::memory_order_relaxed);
-                const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;
-                // Low-discrepancy directions run through the map's rows in order of i (u is
-                // monotonic in i): a block whose rows are all empty is skipped at once.
-                auto u_of = [&](long long i) {
-                    const double u = (static_cast<double>(i) + 0.5) / static_cast<double>(count) + rotate_u;
-                    return u - std::floor(u);
-                };
-                if (map && low_discrepancy &&
-                    !map->any_occupied_between(u_of(begin), u_of(begin) + static_cast<double>(end - begin) / count))
-                    continue;
-                for (long long i = begin; i < end; ++i) {
-                    float u, v;
-                    if (low_discrepancy) {
-                        u = static_cast<float>(u_of(i));
-                        v = radical_inverse2(static_cast<std::uint32_t>(i)) + rotate_v;
-                        v -= std::floor(v);
-                        if (map && !map->occupied_uv(u, v)) continue;
-                    }
-                    RandomStream random(settings.seed, (static_cast<std::uint64_t>(l) << 40) ^ static_cast<std::uint64_t>(i), 3);
-                    if (!low_discrepancy) {
-                        u = random.uniform();
-                        v = random.uniform();
-                    }
-                    if (map && !low_discrepancy && !map->occupied_uv(u, v)) continue;
-                    const glm::vec3 direction = sphere_direction(u, v);
-                    ++traced[b];
-                    glm::vec3 origin = light.position;
-                    if (light.radius > 0.0f) {  // spherical light: leave from its surface
-                        glm::vec3 s = sphere_direction(random.uniform(), random.uniform());
-                        if (glm::dot(s, direction) < 0.0f) s = -s;
-                        origin += light.radius * s;
-                    }
-                    trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, energy, settings.max_depth,
-                                 static_cast<float>(settings.unit_distance), settings.global_illumination, random,
-                                 stored[b]);
+        const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
+        const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;
+        std::vector<std::vector<Photon>> stored;
+        std::vector<long long> traced;
+        auto shoot = [&](RandomStream& random, const glm::vec3& direction, std::vector<Photon>& out) {
+            glm::vec3 origin = light.position;
+            if (light.radius > 0.0f) {  // spherical light: leave from its surface
+                glm::vec3 s = sphere_direction(random.uniform(), random.uniform());
+                if (glm::dot(s, direction) < 0.0f) s = -s;
+                origin += light.radius * s;
+            }
+            trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, energy, settings.max_depth,
+                         static_cast<float>(settings.unit_distance), settings.global_illumination, random, out);
+        };
+        if (map) {
+            // Directions are drawn inside the map's occupied cells only: each cell gets its share
+            // of the count (rounded as below, right on average), every photon the energy of one
+            // direction of the count, in an even pattern inside the cell (a Hammersley set). Pass
+            // after pass the patterns move by a low-discrepancy step (R2), so the passes together
+            // stay evenly spread.
+            const OccupiedCells occupied(*map);
+            const auto& cells = occupied.cells();
+            // Systematic sampling of the counts: cell c gets floor(C_c + rho) - floor(C_{c-1} + rho)
+            // photons, C the cumulative expected count and rho one offset for the pass, so the total
+            // is the expected one to a photon and neighbouring cells are rounded in opposite ways.
+            std::vector<long long> first(cells.size() + 1, 0);
+            {
+                RandomStream offset(settings.sequence_seed, 0x726f756e64 ^ l, 9);
+                double rho = offset.uniform() + static_cast<double>(settings.pass) * 0.6180339887498949;
+                rho -= std::floor(rho);
+                double cumulative = 0.0;
+                for (std::size_t c = 0; c < cells.size(); ++c) {
+                    cumulative += static_cast<double>(count) * cells[c].share;
+                    first[c + 1] = static_cast<long long>(std::floor(cumulative + rho));
                 }
             }
-        });
+            constexpr std::size_t cells_per_block = 32;
+            const std::size_t blocks = (cells.size() + cells_per_block - 1) / cells_per_block;
+            stored.resize(blocks);
+            traced.assign(blocks, 0);
+            const double step_s = 0.7548776662466927, step_t = 0.5698402909980532;  // the R2 sequence
+            const double pass = static_cast<double>(settings.pass);
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+                const ScopedFlushDenormals flush;
+                for (std::size_t b = r.begin(); b != r.end(); ++b) {
+                    if (cancel && cancel->load(std::memory_order_relaxed)) return;
+                    for (std::size_t c = b * cells_per_block; c < std::min(cells.size(), (b + 1) * cells_per_block); ++c) {
+                        RandomStream base(settings.sequence_seed, (static_cast<std::uint64_t>(l) << 40) ^ c, 9);
+                        const double base_s = base.uniform(), base_t = base.uniform();
+                        const long long n = first[c + 1] - first[c];
+                        double shift_s = base_s + pass * step_s, shift_t = base_t + pass * step_t;
+                        shift_s -= std::floor(shift_s);
+                        shift_t -= std::floor(shift_t);
+                        if (settings.progress)
+                            settings.progress->fetch_add(  // in directions of the count: the whole count at the end
+                                static_cast<long long>(static_cast<double>(count) * cells[c].share / occupied.fraction()),
+                                std::memory_order_relaxed);
+                        for (long long j = 0; j < n; ++j) {
+                            RandomStream random(settings.seed,
+                                                (static_cast<std::uint64_t>(l) << 56) ^ (static_cast<std::uint64_t>(c) << 24) ^
+                                                    static_cast<std::uint64_t>(j),
+                                                3);
+                            double u, v;
+                            if (low_discrepancy) {
+                                u = (static_cast<double>(j) + 0.5) / static_cast<double>(n) + shift_s;
+                                v = radical_inverse2(static_cast<std::uint32_t>(j)) + shift_t;
+                                u -= std::floor(u);
+                                v -= std::floor(v);
+                            } else {
+                                u = random.uniform();
+                                v = random.uniform();
+                            }
+                            ++traced[b];
+                            shoot(random, occupied.direction(c, u, v), stored[b]);
+                        }
+                    }
+                }
+            });
+        } else {
+            const long long blocks = (count + block_size - 1) / block_size;
+            stored.resize(static_cast<std::size_t>(blocks));
+            traced.assign(static_cast<std::size_t>(blocks), 0);
+            RandomStream rotation_stream(settings.seed, 0x70686f746f6e ^ l, 7);
+            const float rotate_u = rotation_stream.uniform(), rotate_v = rotation_stream.uniform();
+            tbb::parallel_for(tbb::blocked_range<long long>(0, blocks, 1), [&](const tbb::blocked_range<long long>& r) {
+                const ScopedFlushDenormals flush;
+                for (long long b = r.begin(); b != r.end(); ++b) {
+                    if (cancel && cancel->load(std::memory_order_relaxed)) return;
+                    const long long begin = b * block_size, end = std::min(count, (b + 1) * block_size);
+                    if (settings.progress) settings.progress->fetch_add(end - begin, std::memory_order_relaxed);
+                    for (long long i = begin; i < end; ++i) {
+                        RandomStream random(settings.seed, (static_cast<std::uint64_t>(l) << 40) ^ static_cast<std::uint64_t>(i), 3);
+                        float u, v;
+                        if (low_discrepancy) {  // a Hammersley set over the sphere, rotated
+                            const double w = (static_cast<double>(i) + 0.5) / static_cast<double>(count) + rotate_u;
+                            u = static_cast<float>(w - std::floor(w));
+                            v = radical_inverse2(static_cast<std::uint32_t>(i)) + rotate_v;
+                            v -= std::floor(v);
+                        } else {
+                            u = random.uniform();
+                            v = random.uniform();
+                        }
+                        ++traced[static_cast<std::size_t>(b)];
+                        shoot(random, sphere_direction(u, v), stored[static_cast<std::size_t>(b)]);
+                    }
+                }
+            });
+        }
         report.candidates = count;
-        for (long long b = 0; b < blocks; ++b) {
+        for (std::size_t b = 0; b < stored.size(); ++b) {
             report.traced += traced[b];
             report.stored += static_cast<long long>(stored[b].size());
             result.photons.insert(result.photons.end(), stored[b].begin(), stored[b].end());

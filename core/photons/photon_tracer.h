@@ -30,6 +30,10 @@ struct PhotonPassSettings {
     int projection_map_granularity = 180;
     PhotonEmission emission = PhotonEmission::low_discrepancy;
     std::uint64_t seed = 0;
+    /// With a projection map, the pass's directions continue one low-discrepancy sequence over the
+    /// occupied cells: the pass's index in it and the seed of its rotation (fixed for all passes).
+    int pass = 0;
+    std::uint64_t sequence_seed = 0;
     int max_depth = 8;  ///< specular interactions before a photon is dropped
     /// Every path with at least one bounce is stored at each diffuse hit and continues by a
     /// Lambertian bounce (issue 11, --gi); no projection map. Otherwise caustic paths only.

@@ -82,6 +82,27 @@ bool ProjectionMap::any_occupied_between(double u0, double u1) const {
     return any_rows(u0, 1.0) || any_rows(0.0, u1 - 1.0);
 }
 
+OccupiedCells::OccupiedCells(const ProjectionMap& map) {
+    for (int row = 0; row < map.rows(); ++row) {
+        const double theta0 = row * pi / map.rows(), theta1 = (row + 1) * pi / map.rows();
+        const double share = map.cell_solid_angle(row) / (4.0 * pi);
+        for (int column = 0; column < map.columns(); ++column) {
+            if (!map.cell(row, column)) continue;
+            const double phi0 = column * 2.0 * pi / map.columns(), phi1 = (column + 1) * 2.0 * pi / map.columns();
+            cells_.push_back({std::cos(theta0), std::cos(theta1), phi0, phi1, share});
+            fraction_ += share;
+        }
+    }
+}
+
+glm::vec3 OccupiedCells::direction(std::size_t cell, double s, double t) const {
+    const Cell& c = cells_[cell];
+    const double y = c.cos_theta0 + s * (c.cos_theta1 - c.cos_theta0);
+    const double phi = c.phi0 + t * (c.phi1 - c.phi0);
+    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
+    return glm::vec3(static_cast<float>(r * std::cos(phi)), static_cast<float>(y), static_cast<float>(r * std::sin(phi)));
+}
+
 double ProjectionMap::occupied_fraction() const {
     double occupied = 0.0;
     for (int row = 0; row < rows_; ++row) {

@@ -64,4 +64,30 @@ private:
     std::vector<int> row_count_;     ///< cells set in each row (upper bound)
 };
 
+/// A projection map's occupied cells as a list to shoot photons into: a photon pass traces every
+/// direction it draws instead of drawing over the whole sphere and rejecting the directions outside
+/// the map. Each cell gets its share of the photons (its solid angle over 4 pi), placed in an even
+/// pattern inside it.
+class OccupiedCells {
+public:
+    struct Cell {
+        double cos_theta0, cos_theta1, phi0, phi1;
+        double share;  ///< solid angle over 4 pi
+    };
+
+    explicit OccupiedCells(const ProjectionMap& map);
+
+    /// Solid angle of the occupied cells over 4 pi.
+    double fraction() const { return fraction_; }
+    const std::vector<Cell>& cells() const { return cells_; }
+
+    /// The direction at (s, t) of the unit square mapped onto cell `cell`, uniform in solid angle:
+    /// s runs over cos theta, t over phi.
+    glm::vec3 direction(std::size_t cell, double s, double t) const;
+
+private:
+    std::vector<Cell> cells_;
+    double fraction_ = 0.0;
+};
+
 }  // namespace caustica
