@@ -65,16 +65,16 @@ Settings parse_arguments(int argc, char** argv) {
         else if (a == "--averaged-references") s.progressive_references = true;
         else if (a == "--classic") s.classic = true;
         else if (a == "--tuned") {
-            // SCENE:N:PHOTONS:MAXDIST, e.g. default:4:1e7:0.15 (the passes and seconds as given)
+            // SCENE:RADIUS:PHOTONS:MAXDIST, e.g. default:2:1e7:0.15 (the passes and seconds as given)
             std::string text = value();
             std::vector<std::string> parts;
             for (std::size_t start = 0, colon; start <= text.size(); start = colon + 1) {
                 colon = std::min(text.find(':', start), text.size());
                 parts.push_back(text.substr(start, colon - start));
             }
-            if (parts.size() != 4) throw std::runtime_error("--tuned expects SCENE:N:PHOTONS:MAXDIST");
+            if (parts.size() != 4) throw std::runtime_error("--tuned expects SCENE:RADIUS:PHOTONS:MAXDIST");
             ProgressiveRun run;
-            run.neighbours = std::stoi(parts[1]);
+            run.radius = std::stod(parts[1]);
             run.photons = static_cast<long long>(std::stod(parts[2]));
             run.max_dist = std::stod(parts[3]);
             s.tuned.emplace_back(parts[0], run);
@@ -82,7 +82,7 @@ Settings parse_arguments(int argc, char** argv) {
         else if (a == "--passes") s.run.max_passes = std::stoi(value());
         else if (a == "--seconds") s.run.max_seconds = std::stod(value());
         else if (a == "--photons") s.run.photons = static_cast<long long>(std::stod(value()));
-        else if (a == "--neighbours") s.run.neighbours = std::stoi(value());
+        else if (a == "--radius") s.run.radius = std::stod(value());
         else if (a == "--max-dist") s.run.max_dist = std::stod(value());
         else if (a == "--out") s.out_dir = value();
         else if (a == "--repeat") s.repeat = std::stoi(value());
@@ -95,8 +95,8 @@ Settings parse_arguments(int argc, char** argv) {
         } else if (a == "--help" || a == "-h") {
             std::printf("usage: trade [--quick] [--repeat K] [--scenes virtual_light,default,glass_of_liquid] "
                         "[--skip-stale] --out DIR\n       trade --make-references [--progressive] [--scenes ...]\n"
-                        "       trade --progressive [--averaged-references] [--classic] [--tuned SCENE:N:PHOTONS:MAXDIST]... [--passes P] [--seconds S] "
-                        "[--photons X] [--neighbours N] [--max-dist D] [--scenes ...] --out DIR\n"
+                        "       trade --progressive [--averaged-references] [--classic] [--tuned SCENE:RADIUS:PHOTONS:MAXDIST]... [--passes P] [--seconds S] "
+                        "[--photons X] [--radius PIXELS] [--max-dist D] [--scenes ...] --out DIR\n"
                         "       trade --pass-time [--passes P]   (a progressive pass of default.lua at 1280x720)\n");
             std::exit(0);
         } else throw std::runtime_error("unknown argument '" + a + "' (see --help)");
@@ -291,7 +291,7 @@ int run_progressive(const Settings& settings) {
         return 3;
     }
     std::ofstream csv(settings.out_dir + "/progressive.csv");
-    csv << "scene,width,height,photons_per_pass,neighbours,max_dist,passes,seconds,rel_rmse_caustic,rel_bias_caustic,"
+    csv << "scene,width,height,photons_per_pass,radius_pixels,max_dist,passes,seconds,rel_rmse_caustic,rel_bias_caustic,"
            "rmse,estimate,estimate_noise,estimate_bias,first_radius,radius,photons_emitted,reference\n";
     std::vector<trade::Panel> panels;
     for (const TradeScene& s : scenes) {
@@ -307,20 +307,19 @@ int run_progressive(const Settings& settings) {
             run.max_passes = settings.run.max_passes;  // every curve stops by the same rules
             run.max_seconds = settings.run.max_seconds;
             if (run.photons <= 0 && o.caustic_num_photons <= 0) run.photons = 100'000;  // the virtual light has none
-            if (run.neighbours <= 0 && s.name == "virtual_light") run.neighbours = 50;
             run.png_path = settings.out_dir + "/progressive-" + s.name + (colour > 0 ? "-" + std::to_string(colour) : "") + ".png";
             const long long photons = run.photons > 0 ? run.photons : o.caustic_num_photons;
-            const int n = run.neighbours > 0 ? run.neighbours : o.caustic_num_neighbours;
+            const double radius = run.radius > 0.0 ? run.radius : o.accumulation_radius;
             const double max_dist = run.max_dist > 0.0 ? run.max_dist : o.effective_caustic_max_dist();
-            std::printf("%s: %dx%d, %lld photons a pass, N %d, max distance %g, reference %s, caustic region %zu pixels\n",
-                        s.name.c_str(), s.job.width, s.job.height, photons, n, max_dist, s.reference_kind.c_str(),
+            std::printf("%s: %dx%d, %lld photons a pass, first radius %g pixels, max distance %g, reference %s, caustic region %zu pixels\n",
+                        s.name.c_str(), s.job.width, s.job.height, photons, radius, max_dist, s.reference_kind.c_str(),
                         s.region.size());
             const std::vector<ProgressivePoint> points = progressive_curve(s, run);
             std::vector<std::pair<double, double>> truth, estimate, fit;
             for (const ProgressivePoint& p : points) {
                 char line[512];
-                std::snprintf(line, sizeof line, "%s,%d,%d,%lld,%d,%g,%d,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%lld,%s\n",
-                              s.name.c_str(), s.job.width, s.job.height, photons, n, max_dist, p.passes, p.seconds,
+                std::snprintf(line, sizeof line, "%s,%d,%d,%lld,%g,%g,%d,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%lld,%s\n",
+                              s.name.c_str(), s.job.width, s.job.height, photons, radius, max_dist, p.passes, p.seconds,
                               p.error.rel_rmse, p.error.rel_bias, p.error.rmse, p.estimate, p.noise, p.bias, p.first_radius,
                               p.radius, p.photons_emitted, s.reference_kind.c_str());
                 csv << line;
@@ -341,8 +340,9 @@ int run_progressive(const Settings& settings) {
                         fit.back().first, ratio_min, ratio_max);
             csv << "# " << s.name << " slope of log10(rel_rmse_caustic) on log10(seconds) over the last two decades: "
                 << slope << "\n";
-            errors.curves.push_back({"progressive, " + format_count(static_cast<double>(photons)) + " photons a pass, N " +
-                                         std::to_string(n) + (max_dist != default_max_dist ? ", max " + format_count(max_dist) : "") +
+            errors.curves.push_back({"progressive, " + format_count(static_cast<double>(photons)) + " photons a pass, r1 " +
+                                         format_count(radius) + " px" +
+                                         (max_dist != default_max_dist ? ", max " + format_count(max_dist) : "") +
                                          " (slope " + format_count(std::round(slope * 100.0) / 100.0) + ")",
                                      truth, colour});
             if (colour == 0) errors.curves.push_back({"the renderer's estimate", estimate, 0, true});
@@ -450,7 +450,6 @@ int main(int argc, char** argv) {
             // A tiny progressive check (about 0.3 s): 8 accumulated passes must beat one.
             ProgressiveRun run;
             run.photons = 100'000;
-            run.neighbours = 50;
             run.max_passes = 8;
             TradeScene scene = scenes.front();
             scene.reference = pixel_averaged_virtual_light(scene, 16, settings.threads);

@@ -14,7 +14,7 @@ namespace caustica::trade {
 /// The settings of one progressive curve (negative or 0: the scene's own value).
 struct ProgressiveRun {
     long long photons = 0;  ///< photon directions per light, per pass
-    int neighbours = 0;     ///< N of the first radius
+    double radius = 0.0;    ///< --accumulation-radius: the first radius in pixel footprints (0: the default)
     double max_dist = 0.0;  ///< cap of the first radius
     int max_passes = 256;   ///< last checkpoint (a power of 2 or not: it is always measured)
     double max_seconds = 0.0;  ///< stop the checkpoints once this much render time is spent (0: none)
@@ -45,7 +45,7 @@ struct ProgressiveRecipe {
     const char* name;    ///< of the ReferenceRecipe whose scene it renders
     int width, height;
     long long photons;   ///< per pass
-    int neighbours;
+    double radius;       ///< --accumulation-radius
     double max_dist;
     int passes;          ///< in all: two accumulations (seeds 1, 2) of passes / 2 each
 };

@@ -38,6 +38,20 @@ void ProgressiveIntegrator::trace_camera_rays8(const Ray* rays, const int* valid
     });
 }
 
+void ProgressiveIntegrator::trace_samples8(const Ray* rays, const int* valid, RandomStream* streams, glm::vec3* colour,
+                                           double* photon, double* photon_inner, RayCounters& counters) const {
+    for (int i = 0; i < 8; ++i) photon[i] = photon_inner[i] = 0.0;
+    trace_packet8(setup_, rays, valid, true, false, colour, counters, [&](int i, const SurfaceHit& hit, const float* visibility) {
+        counters.photon_value = counters.photon_value_inner = 0.0;
+        PathState path;
+        path.known_visibility = visibility;
+        const glm::vec3 c = shade(rays[i], hit, path, streams[i], counters);
+        photon[i] = counters.photon_value;
+        photon_inner[i] = counters.photon_value_inner;
+        return c;
+    });
+}
+
 float ProgressiveIntegrator::medium_index(int material) const {
     return material < 0 ? 1.0f : setup_.scene->materials()[material].refractive_index;
 }

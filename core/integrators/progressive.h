@@ -28,6 +28,12 @@ public:
     void trace_camera_rays8(const Ray* rays, const int* valid, RandomStream* streams, glm::vec3* out,
                             RayCounters& counters) const override;
 
+    /// Up to 8 camera samples of a progressive pass as a packet (lanes with valid[i] == 0 are
+    /// skipped): their colours, and the photon radiance each gathered at the pass radius and at
+    /// radius / sqrt 2 (the probes of the error estimate; 0 for a lane that gathered nothing).
+    void trace_samples8(const Ray* rays, const int* valid, RandomStream* streams, glm::vec3* colour, double* photon,
+                        double* photon_inner, RayCounters& counters) const;
+
     /// Colour of a ray that escapes the scene.
     glm::vec3 background(const glm::vec3& direction) const { return background_colour(setup_, direction); }
 

@@ -1,6 +1,7 @@
 #include "core/integrators/progressive_render.h"
 
 #include "core/geometry/render_scene.h"
+#include "core/integrators/progressive.h"
 #include "core/photons/caustic_stage.h"
 #include "core/scene/camera.h"
 #include "core/render/random.h"
@@ -15,6 +16,11 @@
 
 namespace caustica {
 namespace {
+
+/// The grid's cells, in typical radii: a gather of that radius scans about (1 + 2/3)^3 = 4.6 cells
+/// (2 radii: 8 cells, each holding fewer photons; measured 25% more time in the gathers at 1280 x
+/// 720 on default.lua, trade --pass-time).
+constexpr double grid_cell_factor = 3.0;
 
 double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -58,28 +64,46 @@ inline void check_pixel([[maybe_unused]] const glm::vec3& c, [[maybe_unused]] in
 
 }  // namespace
 
-void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
-                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters) {
+void render_accumulation_tile(const ProgressiveIntegrator& integrator, const TileContext& context, const Tile& tile,
+                              int pass, ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters) {
     // The probes are read from zero around each ray (then added back), so that what a pixel gets
     // does not depend on what else the thread's counters summed: the same bits for any thread count.
     const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
     double photon_total = 0.0, inner_total = 0.0;
+    // The sample's place in the pixel: pass after pass a step of the R2 sequence from a start
+    // fixed per pixel, so a pixel's samples cover it evenly whatever the number of passes.
+    const double step_x = 0.7548776662466927, step_y = 0.5698402909980532;
     for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            const std::size_t index = static_cast<std::size_t>(y) * out.width + x;
-            // One stream per (pixel, pass): the same image for any thread count.
-            RandomStream random(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
-            const float px = static_cast<float>(x) + random.uniform(), py = static_cast<float>(y) + random.uniform();
-            counters.photon_value = counters.photon_value_inner = 0.0;
-            PassSample sample;
-            sample.colour = context.integrator->trace_camera_ray(context.camera->generate(px, py), random, counters);
-            sample.photon = counters.photon_value;
-            sample.photon_inner = counters.photon_value_inner;
-            photon_total += sample.photon;
-            inner_total += sample.photon_inner;
-            ++counters.samples;
-            check_pixel(sample.colour, x, y);
-            out.at(x, y) = accumulator.add(index, sample);
+        for (int x = tile.x0; x < tile.x1; x += 8) {
+            Ray rays[8];
+            int valid[8];
+            RandomStream streams[8] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}};
+            for (int i = 0; i < 8; ++i) {
+                valid[i] = x + i < tile.x1;
+                const std::size_t index = static_cast<std::size_t>(y) * out.width + x + i;
+                RandomStream start(context.seed, index, 15);
+                double jx = start.uniform() + step_x * pass, jy = start.uniform() + step_y * pass;
+                jx -= std::floor(jx);
+                jy -= std::floor(jy);
+                rays[i] = context.camera->generate(static_cast<float>(x + i) + static_cast<float>(jx),
+                                                   static_cast<float>(y) + static_cast<float>(jy));
+                // One stream per (pixel, pass): the same image for any thread count.
+                streams[i] = RandomStream(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
+            }
+            glm::vec3 colour[8];
+            double photon[8], inner[8];
+            integrator.trace_samples8(rays, valid, streams, colour, photon, inner, counters);
+            for (int i = 0; i < 8 && valid[i]; ++i) {
+                PassSample sample;
+                sample.colour = colour[i];
+                sample.photon = photon[i];
+                sample.photon_inner = inner[i];
+                photon_total += sample.photon;
+                inner_total += sample.photon_inner;
+                ++counters.samples;
+                check_pixel(sample.colour, x + i, y);
+                out.at(x + i, y) = accumulator.add(static_cast<std::size_t>(y) * out.width + x + i, sample);
+            }
         }
     }
     counters.photon_value = photon_before + photon_total;
@@ -179,7 +203,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         pass_setup.radius_scale = static_cast<float>(std::sqrt(acc.scale2));
         return pass_setup;
     };
-    // The grid's cells are twice the radius most gathers use (a function of the scene and the
+    // The grid's cells are made for the radius most gathers use (a function of the scene and the
     // pass alone: every rank sorts a pass's photons into the same cells, so sums are the same bits).
     if (has_photons && acc.typical_radius <= 0.0)
         acc.typical_radius = typical_first_radius(host.scene(), *context.camera, job, setup);
@@ -237,13 +261,13 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             const ShadingSetup pass_setup = pass_setup_for(p);
             if (photons) {
                 const auto t_grid = std::chrono::steady_clock::now();
-                grid_.build(*photons, static_cast<float>(2.0 * acc.typical_radius * std::sqrt(acc.scale2)));
+                grid_.build(*photons, static_cast<float>(grid_cell_factor * acc.typical_radius * std::sqrt(acc.scale2)));
                 grid_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_grid).count();
                 round_photons = photon_directions(fresh ? *fresh : *first_stage);
             }
-            const std::unique_ptr<Integrator> pass_integrator = make_integrator(options.integrator, pass_setup);
+            const ProgressiveIntegrator pass_integrator(pass_setup);
             TileContext pass_context = context;
-            pass_context.integrator = pass_integrator.get();
+            pass_context.integrator = &pass_integrator;
             pass_context.seed = acc.seed;
             if (round > 0 && limit == 0) {  // one more pass to show: the tile total grows
                 host.report([&](SessionProgress& progress, RenderStats&) {
@@ -253,7 +277,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             }
             if (!(shared && cancel))
                 host.run_tiles("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
-                    render_accumulation_tile(pass_context, tile, p, accumulator_, image, c);
+                    render_accumulation_tile(pass_integrator, pass_context, tile, p, accumulator_, image, c);
                 });
         }
         double round_seconds = now_seconds() - t0;

@@ -13,6 +13,8 @@
 
 namespace caustica {
 
+class ProgressiveIntegrator;
+
 class ProgressiveRender {
 public:
     /// Whether the buffers hold passes of the job last rendered (resume() may continue them).
@@ -50,10 +52,10 @@ private:
     PhotonGrid grid_;  // the pass's photons (its buffers reused pass after pass)
 };
 
-/// One progressive pass (0-based `pass`) over a tile: a jittered sample per pixel, deterministic
-/// per (pixel, pass), added to the accumulator with its photon probes; the pixel's mean goes to
-/// `out`.
-void render_accumulation_tile(const TileContext& context, const Tile& tile, int pass,
-                              ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters);
+/// One progressive pass (0-based `pass`) over a tile: a sample per pixel, deterministic per (pixel,
+/// pass), traced 8 pixels to a packet, added to the accumulator with its photon probes; the
+/// pixel's mean goes to `out`.
+void render_accumulation_tile(const ProgressiveIntegrator& integrator, const TileContext& context, const Tile& tile,
+                              int pass, ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters);
 
 }  // namespace caustica
