@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -21,7 +22,9 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
+#include <vector>
 
 extern char** environ;
 
@@ -131,9 +134,56 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
 
 bool sanitized_build() { return caustica::sanitized_build; }
 
+namespace {
+
+/// A fixed amount of integer work (a xorshift chain the compiler cannot shorten), built optimised
+/// whatever the test sources' flags, with no memory access for a sanitizer to instrument.
+__attribute__((noinline, optimize("O2"))) std::uint64_t calibration_work(std::uint64_t x, int steps) {
+    for (int i = 0; i < steps; ++i) {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+    }
+    return x;
+}
+
+/// How much slower than the machine the bounds were set on this one runs now: the median of
+/// seven timings of calibration_work run on every hardware thread at once (as the renderer's
+/// threads run, so that other processes busy on the cores count) against the same work's time
+/// there (about 15 ms), from 1 to 8, measured once per process. CAUSTICA_TIME_FACTOR, when set,
+/// replaces the measurement.
+double machine_factor() {
+    static const double factor = [] {
+        if (const char* given = std::getenv("CAUSTICA_TIME_FACTOR"); given && *given) {
+            const double f = std::atof(given);
+            if (f > 0.0) return f;
+        }
+        constexpr int steps = 7'000'000;
+        constexpr double reference_seconds = 0.0146;
+        const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+        std::vector<double> seconds;
+        std::vector<std::uint64_t> sinks(threads, 1);
+        for (int i = 0; i < 7; ++i) {
+            const auto t0 = std::chrono::steady_clock::now();
+            std::vector<std::thread> workers;
+            for (unsigned t = 0; t < threads; ++t)
+                workers.emplace_back([&sinks, t] { sinks[t] = calibration_work(sinks[t] + 1, steps); });
+            for (std::thread& w : workers) w.join();
+            seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+        static volatile std::uint64_t kept;
+        for (std::uint64_t x : sinks) kept = kept + x;
+        std::nth_element(seconds.begin(), seconds.begin() + 3, seconds.end());
+        return std::clamp(seconds[3] / reference_seconds, 1.0, 8.0);
+    }();
+    return factor;
+}
+
+}  // namespace
+
 // AddressSanitizer + UndefinedBehaviorSanitizer runs CSG- and allocation-heavy paths 9-14 times
-// slower (measured on the R1 and R3 scenes): the Release build asserts the real bounds.
-double time_factor() { return sanitized_build() ? 12.0 : 1.0; }
+// slower (measured on the R1 and R3 scenes); a slower or loaded machine by machine_factor().
+double time_factor() { return (sanitized_build() ? 12.0 : 1.0) * machine_factor(); }
 
 double pace_factor() { return sanitized_build() ? 4.0 : 1.0; }
 
@@ -146,6 +196,7 @@ std::string Outcome::describe() const {
     s << ", " << seconds << " s, peak RSS " << peak_rss / mib << " MiB";
     if (!killed.empty()) s << ", killed by the test: " << killed;
     if (stragglers) s << ", processes of its group outlived it";
+    s << " (time bounds x" << time_factor() << ")";
     s << "\n--- stderr:\n" << err.substr(0, 4000) << "\n--- stdout:\n" << out.substr(0, 2000);
     return s.str();
 }
@@ -318,6 +369,7 @@ Outcome caustica_run(const fs::path& cwd, std::vector<std::string> args, double 
     run.args = std::move(args);
     run.env = std::move(env);
     run.limits.wall_seconds = wall_seconds * time_factor();
+    run.limits.cpu_seconds *= time_factor();
     run.limits.resident = rss_bound(resident);
     run.limits.address_space = address_space;
     return run_child(run);

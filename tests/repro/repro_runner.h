@@ -28,8 +28,10 @@ inline constexpr std::size_t gib = std::size_t(1) << 30;
 /// True when this build runs under AddressSanitizer (no RLIMIT_AS, slower, more memory).
 bool sanitized_build();
 
-/// Factor on time bounds: 1, or 12 under a sanitizer (AddressSanitizer and UndefinedBehaviorSanitizer
-/// together run CSG- and allocation-heavy scenes 9-14 times slower).
+/// Factor on time bounds (wall clock and CPU time): 1, or 12 under a sanitizer (AddressSanitizer
+/// and UndefinedBehaviorSanitizer together run CSG- and allocation-heavy scenes 9-14 times
+/// slower), times how much slower this machine runs a fixed piece of work than the machine the
+/// bounds were set on, measured once per process (1 to 8; CAUSTICA_TIME_FACTOR sets it instead).
 double time_factor();
 
 /// Factor on when a test acts (sends Ctrl-C, rewrites a scene) and on the script time limits it
