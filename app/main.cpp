@@ -1,4 +1,5 @@
 // caustica: the command-line entry point. Subcommands as in yocto's apps: render, view.
+#include "app/compare_command.h"
 #include "app/render_command.h"
 #include "app/view_command.h"
 #include "core/render/cluster.h"
@@ -26,6 +27,7 @@ const char* usage =
     "  caustica view [SCENE.lua] [--headless] [--snapshot FILE.png] ...\n"
     "                                                     interactive preview ('caustica view --help')\n"
     "  caustica SCENE.lua                                 same as 'caustica render SCENE.lua'\n"
+    "  caustica compare IMAGE REFERENCE                   the caustic error of an image (docs/ACCURACY.md)\n"
     "  caustica --help | --version\n"
     "\n"
     "'caustica render --help' lists the options.\n";
@@ -78,6 +80,7 @@ int main(int argc, char** argv) {
             const std::vector<std::string> render_args = render ? std::vector<std::string>(args.begin() + 1, args.end()) : args;
             return render_command(render_args);
         }
+        if (command == "compare") return caustica::run_compare_command({args.begin() + 1, args.end()});
         if (command == "view") {
             // The preview is one window of one process: under mpirun every rank would open one.
             const char* ranks = std::getenv("OMPI_COMM_WORLD_SIZE");

@@ -270,7 +270,7 @@ int run_progressive(const Settings& settings) {
         trade::write_pfm(settings.out_dir + "/virtual_light_centres.pfm", centres);
         trade::write_pfm(settings.out_dir + "/virtual_light_averaged.pfm", scene.reference);
         std::printf("virtual_light: pixel-averaged against pixel-centre analytic reference: %.5f relative RMSE\n",
-                    compare(scene.reference, centres, scene.region).rel_rmse);
+                    compare_images(scene.reference, centres, scene.region).rel_rmse);
         scenes.push_back(std::move(scene));
     }
     for (const ReferenceRecipe& recipe : recipes) {

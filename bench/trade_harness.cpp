@@ -33,10 +33,6 @@ namespace {
 const std::string source_dir = CAUSTICA_SOURCE_DIR;
 const std::string reference_dir = "assets/references";
 
-/// A pixel belongs to a Lua scene's caustic region when its reference caustic value (mean of the
-/// channels) is at least this fraction of the reference's 99th percentile of non-zero values.
-constexpr double region_fraction = 0.1;
-
 double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -77,53 +73,7 @@ Timing render(RenderSession& session, const RenderJob& job) {
     return t;
 }
 
-/// A pixel as the PNG shows it: each channel clamped to [0, 1]. Errors are measured on these
-/// values, so a focal spot of radiance 25 counts as much as one of 1, as it looks.
-glm::vec3 shown(const glm::vec3& p) { return glm::clamp(p, glm::vec3(0.0f), glm::vec3(1.0f)); }
-
 }  // namespace
-
-double pixel_value(const glm::vec3& p) {
-    const glm::vec3 s = shown(p);
-    return (s.x + s.y + s.z) / 3.0;
-}
-
-std::vector<std::size_t> caustic_region(const Image& reference) {
-    std::vector<double> lit;
-    for (const glm::vec3& p : reference.pixels)
-        if (pixel_value(p) > 0.0) lit.push_back(pixel_value(p));
-    std::vector<std::size_t> region;
-    if (lit.empty()) return region;
-    auto percentile = lit.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(lit.size() - 1));
-    std::nth_element(lit.begin(), percentile, lit.end());
-    const double threshold = region_fraction * *percentile;
-    for (std::size_t i = 0; i < reference.pixels.size(); ++i)
-        if (pixel_value(reference.pixels[i]) >= threshold) region.push_back(i);
-    return region;
-}
-
-ImageError compare(const Image& image, const Image& reference, const std::vector<std::size_t>& region) {
-    ImageError e;
-    double squared = 0.0;
-    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-        const glm::vec3 d = shown(image.pixels[i]) - shown(reference.pixels[i]);
-        squared += glm::dot(d, d);
-    }
-    e.rmse = std::sqrt(squared / (3.0 * static_cast<double>(image.pixels.size())));
-    double region_squared = 0.0, sum = 0.0, sum_reference = 0.0;
-    for (std::size_t i : region) {
-        const glm::vec3 d = shown(image.pixels[i]) - shown(reference.pixels[i]);
-        region_squared += glm::dot(d, d);
-        sum += 3.0 * pixel_value(image.pixels[i]);
-        sum_reference += 3.0 * pixel_value(reference.pixels[i]);
-    }
-    if (sum_reference > 0.0) {
-        const double count = 3.0 * static_cast<double>(region.size());
-        e.rel_rmse = std::sqrt(region_squared / count) / (sum_reference / count);
-        e.rel_bias = sum / sum_reference - 1.0;
-    }
-    return e;
-}
 
 RenderJob load_lua_job(const ReferenceRecipe& recipe, int threads) {
     RenderJob job = load_scene_script(source_dir + "/" + recipe.script).renders.at(0);
@@ -185,7 +135,7 @@ void make_reference(const ReferenceRecipe& recipe, int threads) {
     }
     ReferenceInfo info = expected_info(recipe);
     // The two halves' difference has 4x the variance of the full mean's error: halve its RMSE.
-    info.noise = 0.5 * compare(half_a, half_b, caustic_region(mean)).rel_rmse;
+    info.noise = 0.5 * compare_images(half_a, half_b, caustic_region(mean)).rel_rmse;
     info.seconds = now_seconds() - t0;
     info.command = "build/trade --make-references";
     const std::string base = source_dir + "/" + reference_dir + "/" + recipe.name;
@@ -256,7 +206,7 @@ std::vector<Row> sweep(const TradeScene& scene, const std::vector<long long>& co
                     render_times[{max_dist, n}].push_back(t.render_seconds);
                     if (r == 0) {
                         Row row{scene.name, photons, n, max_dist, 0.0, 0.0, {}, t.stored_photons};
-                        row.error = compare(session.image(), scene.reference, scene.region);
+                        row.error = compare_images(session.image(), scene.reference, scene.region);
                         measured[{max_dist, n}] = row;
                     }
                 }
@@ -285,7 +235,7 @@ std::vector<PresetRow> measure_presets(const TradeScene& scene, int repeat) {
             RenderJob job = scene.job;
             job.options = row.options;
             const Timing t = render(session, job);
-            if (r == 0) row.error = compare(session.image(), scene.reference, scene.region), row.caustics = t;
+            if (r == 0) row.error = compare_images(session.image(), scene.reference, scene.region), row.caustics = t;
             photon_times.push_back(t.photon_seconds);
             caustic_times.push_back(t.render_seconds);
             job.options.draw_caustics_only = false;  // the whole image, anti-aliased as the preset says

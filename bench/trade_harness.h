@@ -5,6 +5,7 @@
 
 #include "bench/trade_reference.h"
 #include "core/render/image.h"
+#include "core/render/image_error.h"
 #include "core/scene/options.h"
 #include "core/scene/scene_desc.h"
 
@@ -43,13 +44,6 @@ struct TradeScene {
     std::vector<long long> sweep, quick_sweep;  ///< photon counts of the full and --quick sweeps
 };
 
-/// Error of one image against its scene's reference.
-struct ImageError {
-    double rmse = 0.0;      ///< over every pixel and channel, of the shown (clamped linear) values
-    double rel_rmse = 0.0;  ///< over the caustic region, relative to the reference's mean there
-    double rel_bias = 0.0;  ///< sum over the region / reference sum - 1
-};
-
 /// One measured run.
 struct Row {
     std::string scene;
@@ -80,16 +74,6 @@ struct PresetRow {
 /// jitters whatever disable_aa says), fixed streams, `threads` threads, and the progressive
 /// integrator, whose physics the references (and the analytic virtual light) follow.
 void set_caustics_only(Options& options, int threads);
-
-/// A pixel's value as the PNG shows it: each channel clamped to [0, 1], then their mean.
-double pixel_value(const glm::vec3& pixel);
-
-/// Pixels whose shown reference caustic value reaches a tenth of the 99th percentile of the
-/// non-zero values: the caustic region of a Lua scene's reference.
-std::vector<std::size_t> caustic_region(const Image& reference);
-
-/// The error of `image` against `reference`, relative over `region` (see ImageError).
-ImageError compare(const Image& image, const Image& reference, const std::vector<std::size_t>& region);
 
 /// A Lua scene's first render at the recipe's resolution, caustics only (set_caustics_only).
 RenderJob load_lua_job(const ReferenceRecipe& recipe, int threads);

@@ -109,7 +109,7 @@ std::vector<ProgressivePoint> progressive_curve(const TradeScene& scene, const P
         ProgressivePoint p;
         p.passes = stats.accumulation.passes;
         p.seconds = seconds;
-        p.error = compare(session.image(), scene.reference, scene.region);
+        p.error = compare_images(session.image(), scene.reference, scene.region);
         p.estimate = stats.accumulation.error;
         p.noise = stats.accumulation.noise;
         p.bias = stats.accumulation.bias;
@@ -173,7 +173,7 @@ void make_progressive_reference(const ProgressiveRecipe& recipe, int threads) {
     for (std::size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] = 0.5f * (halves[0].pixels[i] + halves[1].pixels[i]);
     ReferenceInfo info = expected_progressive_info(recipe);
     // The halves' difference has 4x the variance of the mean's error: halve its RMSE.
-    info.noise = 0.5 * compare(halves[0], halves[1], caustic_region(mean)).rel_rmse;
+    info.noise = 0.5 * compare_images(halves[0], halves[1], caustic_region(mean)).rel_rmse;
     info.seconds = now_seconds() - t0;
     info.command = std::string("build/trade --make-references --progressive --scenes ") + recipe.name;
     const std::string base = progressive_base(recipe);

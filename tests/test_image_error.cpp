@@ -1,0 +1,105 @@
+// The caustic error (docs/ACCURACY.md, "The caustic error"): its region and figures on images
+// whose answers are known by hand, and `caustica compare`, which prints them for two files.
+#include "core/io/image_io.h"
+#include "core/render/image_error.h"
+
+#include "run_command.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
+
+using namespace caustica;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// 100 pixels: 10 lit at 0.5 (grey), one at 4 (shows as 1), the rest black.
+Image lit_reference() {
+    Image image(10, 10);
+    for (int i = 0; i < 10; ++i) image.pixels[static_cast<std::size_t>(i)] = glm::vec3(0.5f);
+    image.pixels[50] = glm::vec3(4.0f);
+    return image;
+}
+
+}  // namespace
+
+TEST(CausticError, TheRegionIsATenthOfTheNinetyNinthPercentile) {
+    Image reference = lit_reference();
+    // 11 non-zero shown values: ten of 0.5 and one of 1; the 99th percentile is element
+    // floor(0.99 x 10) = 9 of the sorted list, 0.5: the threshold is 0.05.
+    reference.pixels[60] = glm::vec3(0.06f);  // above it: counted (12 values now, percentile still 0.5)
+    reference.pixels[61] = glm::vec3(0.04f);  // below it: not
+    const std::vector<std::size_t> region = caustic_region(reference);
+    EXPECT_EQ(region.size(), 12u);
+    EXPECT_NE(std::find(region.begin(), region.end(), 60u), region.end());
+    EXPECT_EQ(std::find(region.begin(), region.end(), 61u), region.end());
+    EXPECT_TRUE(caustic_region(Image(4, 4)).empty());
+}
+
+TEST(CausticError, FiguresOfAKnownDifference) {
+    const Image reference = lit_reference();
+    Image image = reference;
+    image.pixels[0] = glm::vec3(0.7f);   // +0.2 on one pixel of the region
+    image.pixels[50] = glm::vec3(9.0f);  // shows 1 like the reference's 4: no error
+    const ImageError e = compare_images(image, reference, caustic_region(reference));
+    EXPECT_EQ(e.region_pixels, 11u);
+    // Region mean of the reference: (10 x 0.5 + 1) / 11; RMS difference: sqrt(0.2^2 / 11).
+    const double mean = 6.0 / 11.0, rms = std::sqrt(0.04 / 11.0);
+    EXPECT_NEAR(e.rel_rmse, rms / mean, 1e-6);
+    EXPECT_NEAR(e.rel_bias, 0.2 / 6.0, 1e-6);
+    EXPECT_NEAR(e.rmse, std::sqrt(0.04 / 100.0), 1e-6);
+    EXPECT_EQ(compare_images(reference, reference, caustic_region(reference)).rel_rmse, 0.0);
+}
+
+class CompareCommand : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("caustica_compare_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    caustica::testing::CommandResult run(const std::string& args) const {
+        return caustica::testing::run_shell("cd '" + dir_.string() + "' && '" CAUSTICA_BINARY "' compare " + args);
+    }
+    fs::path dir_;
+};
+
+TEST_F(CompareCommand, PrintsTheCausticErrorOfTwoFiles) {
+    const Image reference = lit_reference();
+    Image image = reference;
+    image.pixels[0] = glm::vec3(0.7f);
+    write_pfm_atomic((dir_ / "reference.pfm").string(), reference);
+    write_pfm_atomic((dir_ / "image.pfm").string(), image);
+    const auto r = run("image.pfm reference.pfm");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("caustic region       11 pixels of 100"), std::string::npos) << r.output;
+    char expected[64];
+    std::snprintf(expected, sizeof expected, "relative RMSE        %.4f", std::sqrt(0.04 / 11.0) / (6.0 / 11.0));
+    EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
+}
+
+TEST_F(CompareCommand, BadArgumentsAndFilesAreClearErrors) {
+    write_pfm_atomic((dir_ / "reference.pfm").string(), lit_reference());
+    write_pfm_atomic((dir_ / "small.pfm").string(), Image(4, 4));
+    write_pfm_atomic((dir_ / "black.pfm").string(), Image(10, 10));
+    struct Case {
+        std::string args, says;
+    } cases[] = {
+        {"reference.pfm", "compare takes an image and a reference"},
+        {"small.pfm reference.pfm", "small.pfm is 4 x 4, reference.pfm is 10 x 10"},
+        {"reference.pfm black.pfm", "black.pfm: every pixel is black"},
+        {"missing.pfm reference.pfm", "missing.pfm"},
+    };
+    for (const Case& c : cases) {
+        const auto r = run(c.args);
+        EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << "\n" << r.output;
+    }
+    EXPECT_EQ(run("--help").code, 0);
+}
