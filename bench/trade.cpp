@@ -84,6 +84,7 @@ Settings parse_arguments(int argc, char** argv) {
         else if (a == "--photons") s.run.photons = static_cast<long long>(std::stod(value()));
         else if (a == "--radius") s.run.radius = std::stod(value());
         else if (a == "--max-dist") s.run.max_dist = std::stod(value());
+        else if (a == "--photon-split") s.run.split = true;
         else if (a == "--out") s.out_dir = value();
         else if (a == "--repeat") s.repeat = std::stoi(value());
         else if (a == "--scenes") {
@@ -96,7 +97,7 @@ Settings parse_arguments(int argc, char** argv) {
             std::printf("usage: trade [--quick] [--repeat K] [--scenes virtual_light,default,glass_of_liquid] "
                         "[--skip-stale] --out DIR\n       trade --make-references [--progressive] [--scenes ...]\n"
                         "       trade --progressive [--averaged-references] [--classic] [--tuned SCENE:RADIUS:PHOTONS:MAXDIST]... [--passes P] [--seconds S] "
-                        "[--photons X] [--radius PIXELS] [--max-dist D] [--scenes ...] --out DIR\n"
+                        "[--photons X] [--radius PIXELS] [--max-dist D] [--photon-split] [--scenes ...] --out DIR\n"
                         "       trade --pass-time [--passes P]   (a progressive pass of default.lua at 1280x720)\n");
             std::exit(0);
         } else throw std::runtime_error("unknown argument '" + a + "' (see --help)");
@@ -306,6 +307,7 @@ int run_progressive(const Settings& settings) {
             ProgressiveRun run = given;
             run.max_passes = settings.run.max_passes;  // every curve stops by the same rules
             run.max_seconds = settings.run.max_seconds;
+            run.split = settings.run.split;
             if (run.photons <= 0 && o.caustic_num_photons <= 0) run.photons = 100'000;  // the virtual light has none
             run.png_path = settings.out_dir + "/progressive-" + s.name + (colour > 0 ? "-" + std::to_string(colour) : "") + ".png";
             const long long photons = run.photons > 0 ? run.photons : o.caustic_num_photons;

@@ -97,6 +97,7 @@ std::vector<ProgressivePoint> progressive_curve(const TradeScene& scene, const P
     if (run.photons > 0) job.options.caustic_num_photons = run.photons;
     if (run.radius > 0.0) job.options.accumulation_radius = run.radius;
     if (run.max_dist > 0.0) job.options.caustic_max_dist = run.max_dist;
+    if (run.split) job.options.photon_split = true;
     job.options.passes = 1;
     job.options.time_limit = 1e9;
     RenderSession session;

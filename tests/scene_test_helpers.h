@@ -32,6 +32,30 @@ inline RenderJob load_first_job(const std::string& source) {
     return job;
 }
 
+/// A glass ball (index 1.5, ks 1) focusing a point light onto a white floor, seen from above, 40 x
+/// 40, progressive and caustics only with 40 000 photons a pass: the focus (far above 1), the ring
+/// of light around it and the ball's shadow form a caustic with sharp edges.
+inline RenderJob glass_ball_focus_job() {
+    RenderJob job = load_first_job(R"(
+gr.option('--integrator progressive --draw-caustics-only --caustic-num-photons 40000')
+glass = gr.material({0, 0, 0}, {1, 1, 1}, 20)
+glass:set_ri(1.5)
+ball = gr.nh_sphere('ball', {0, 1.2, 0}, 0.5)
+ball:set_material(glass)
+floor = gr.cube('floor')
+floor:translate(0, -1, 0)
+floor:scale(4, 1, 4)
+floor:set_material(gr.material({1, 1, 1}, {0, 0, 0}, 0))
+root = gr.node('root')
+root:add_child(floor)
+root:add_child(ball)
+gr.render(root, 'focus.png', 40, 40, {0, 5, 0.01}, {0, -1, 0}, {0, 0, -1}, 24, {0, 0, 0},
+          {gr.light({0.3, 4, 0.1}, {1, 1, 1}, {0, 0, 0.1})})
+)");
+    job.miss_colour = glm::dvec3(0.0);
+    return job;
+}
+
 /// A hit at object point p of an analytic shape placed with object space = world space, as
 /// RenderScene fills it (uv and the A2 tangents included).
 inline SurfaceHit shape_hit(const Shape& shape, const glm::vec3& p, int face, const glm::vec3& outward) {

@@ -71,7 +71,8 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
     h = hash_double(h, o.unit_distance);
     h = hash_double(h, o.energy_fudge);
     h = hash_double(h, static_cast<double>(o.projection_map) * 1e6 + o.caustic_pm_gran);
-    h = hash_double(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.show_projection_map ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0));
+    h = hash_double(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.show_projection_map ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0) +
+                           (o.photon_split ? 8.0 : 0.0));
     h = hash_double(h, static_cast<double>(o.seed));
     h = hash_double(h, o.max_depth);
     h = hash_double(h, static_cast<double>(o.integrator));
@@ -124,6 +125,7 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.sequence_seed = extras.first ? extras.first->sequence_seed : settings.seed;
     settings.pass = extras.pass;
     settings.max_depth = o.max_depth;
+    settings.split = o.photon_split;
     settings.progress = extras.progress;
     if (extras.first) {  // a later pass: the first pass's projection maps, as it used them
         settings.prebuilt_maps.assign(lights.size(), nullptr);

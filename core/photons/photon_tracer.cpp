@@ -45,7 +45,6 @@ glm::vec3 sphere_direction(float u, float v) {
     return {r * std::cos(phi), y, r * std::sin(phi)};
 }
 
-/// Traces one photon; appends it to `out` if it ends on a diffuse surface after a specular bounce.
 /// A cosine-weighted direction about the unit normal `n` (Lambertian reflection).
 glm::vec3 cosine_direction(const glm::vec3& n, float u1, float u2) {
     const float r = std::sqrt(u1), phi = 2.0f * static_cast<float>(pi) * u2;
@@ -54,62 +53,152 @@ glm::vec3 cosine_direction(const glm::vec3& n, float u1, float u2) {
     return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);
 }
 
+/// One photon path, or with splitting one branch of it, being followed.
+struct Branch {
+    Ray ray;
+    glm::vec3 power;
+    MediumStack media;
+    int depth = 0, specular_bounces = 0, bounces = 0;
+};
+
+/// With splitting, a branch that keeps less than this share of its parent's power plays roulette
+/// (survives with probability share / this, its power divided by that): the 4% a glass reflects
+/// is traced one time in five, at five times the power.
+constexpr float split_floor = 0.2f;
+/// Branches waiting to be followed: a photon splits at most this many times.
+constexpr int max_pending_branches = 16;
+
+float mean_of(const glm::vec3& v) { return (v.x + v.y + v.z) / 3.0f; }
+
+/// The dielectric interface a photon meets: the media on either side, their indices and Fresnel's
+/// reflectance for its direction (n faces the side it comes from).
+struct Interface {
+    MediumTransition transition;
+    float n1 = 1.0f, n2 = 1.0f, reflectance = 0.0f;
+};
+
+Interface interface_at(const std::vector<Material>& materials, const SurfaceHit& hit, const Branch& b,
+                       const glm::vec3& n) {
+    Interface i{medium_transition(hit, b.ray.direction, b.media)};
+    i.n1 = i.transition.from < 0 ? 1.0f : materials[i.transition.from].refractive_index;
+    i.n2 = i.transition.to < 0 ? 1.0f : materials[i.transition.to].refractive_index;
+    i.reflectance = fresnel_reflectance(i.n1, i.n2, -glm::dot(n, b.ray.direction));
+    return i;
+}
+
+/// Traces one photon (and, when `split`, every branch it splits into at mirrors and dielectrics);
+/// appends to `out` each time it reaches a diffuse surface after a specular bounce.
 void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_depth, float unit_distance,
-                  bool global_illumination, RandomStream& random, std::vector<Photon>& out) {
+                  bool global_illumination, bool split, RandomStream& random, std::vector<Photon>& out) {
     const auto& materials = scene.materials();
     const float eps = scene.epsilon();
-    MediumStack media;
-    int specular_bounces = 0, bounces = 0;
     // Roulette ends GI paths; the cap only stops pathological ones (albedo 0.9: 0.9^64 = 1e-3 left).
     const int depth_limit = global_illumination ? std::max(max_depth, 64) : max_depth;
-    for (int depth = 0; depth <= depth_limit; ++depth) {
+    split = split && !global_illumination;
+    // Only a splitting photon has branches waiting (allocated then only: a roulette photon's
+    // trace must not pay for clearing them).
+    std::vector<Branch> pending;
+    if (split) pending.reserve(max_pending_branches);
+    Branch b{ray, power, MediumStack{}, 0, 0, 0};
+    for (;;) {
+        // Follows branch b until it ends, then the next one waiting.
+        bool ended = b.depth > depth_limit;
         SurfaceHit hit;
-        if (!scene.intersect(ray, hit)) return;
-        if (const int medium = media.top(); medium >= 0)
-            power = saturate(power * medium_transmittance(materials[medium].medium_colour, hit.t, unit_distance));
+        if (!ended && !scene.intersect(b.ray, hit)) ended = true;
+        if (ended) {
+            if (pending.empty()) return;
+            b = pending.back();
+            pending.pop_back();
+            continue;
+        }
+        ++b.depth;
+        if (const int medium = b.media.top(); medium >= 0)
+            b.power = saturate(b.power * medium_transmittance(materials[medium].medium_colour, hit.t, unit_distance));
         const Material& m = materials[hit.material];
         // A diffuse surface reached after a specular interaction stores the photon (an L S+ D
         // path); its incident power is kept, kd is applied when the estimate is shaded.
-        if (!m.transparent && m.kd != glm::vec3(0.0f) && (specular_bounces > 0 || (global_illumination && bounces > 0)))
-            out.push_back({hit.position, power, ray.direction});
-        ++bounces;
+        if (!m.transparent && m.kd != glm::vec3(0.0f) && (b.specular_bounces > 0 || (global_illumination && b.bounces > 0)))
+            out.push_back({hit.position, b.power, b.ray.direction});
+        ++b.bounces;
+        const RouletteOdds odds = roulette_odds(m);
+        const glm::vec3 n = glm::dot(hit.normal, b.ray.direction) < 0.0f ? hit.normal : -hit.normal;
+        const glm::vec3 ks = m.air ? glm::vec3(1.0f) : m.ks;
+        if (split && odds.specular > 0.0f) {
+            // Splitting: the specular part continues with its weight instead of its odds (the
+            // diffuse part ends a caustic path, and is stored above); at a dielectric both the
+            // reflected and the refracted branch go on. A weak branch plays roulette.
+            auto keep = [&](Branch& branch, const glm::vec3& factor) {
+                const float share = mean_of(factor);
+                if (!(share > 0.0f)) return false;
+                branch.power = saturate(branch.power * factor);
+                if (share < split_floor) {
+                    if (random.uniform() >= share / split_floor) return false;
+                    branch.power = saturate(branch.power * (split_floor / share));
+                }
+                return true;
+            };
+            ++b.specular_bounces;
+            if (!m.transparent) {
+                b.ray = Ray{hit.position, glm::reflect(b.ray.direction, n), eps, ray_infinity};
+                if (!keep(b, ks)) b.depth = depth_limit + 1;
+                continue;
+            }
+            const Interface face = interface_at(materials, hit, b, n);
+            const float reflectance = face.reflectance;
+            glm::vec3 refracted;
+            const bool refracts = reflectance < 1.0f && refract_direction(b.ray.direction, n, face.n1, face.n2, refracted);
+            Branch reflected = b;
+            reflected.ray = Ray{hit.position, glm::reflect(b.ray.direction, n), eps, ray_infinity};
+            const bool reflects = keep(reflected, ks * (refracts ? reflectance : 1.0f));
+            if (refracts) {
+                b.media = face.transition.after;
+                b.ray = Ray{hit.position, refracted, eps, ray_infinity};
+                if (!keep(b, glm::vec3(1.0f - reflectance))) b.depth = depth_limit + 1;
+                if (reflects) {
+                    if (pending.size() < static_cast<std::size_t>(max_pending_branches)) pending.push_back(reflected);
+                }
+            } else {
+                b = reflected;
+                if (!reflects) b.depth = depth_limit + 1;
+            }
+            continue;
+        }
         // Russian roulette decides what happens next (seed 1.1.1). Diffuse reflection ends a
         // caustic path (the caustic map holds no diffuse bounce); so does absorption.
-        const RouletteOdds odds = roulette_odds(m);
         const float xi = random.uniform();
-        if (xi >= odds.diffuse + odds.specular) return;  // absorbed
+        if (xi >= odds.diffuse + odds.specular) {  // absorbed
+            b.depth = depth_limit + 1;
+            continue;
+        }
         if (xi < odds.diffuse) {
-            if (!global_illumination) return;  // the caustic map holds no diffuse bounce
+            if (!global_illumination) {  // the caustic map holds no diffuse bounce
+                b.depth = depth_limit + 1;
+                continue;
+            }
             // Lambertian bounce on the side the photon came from; power kd / P(diffuse) keeps energy.
-            const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
-            power = saturate(power * (m.kd / odds.diffuse));
+            b.power = saturate(b.power * (m.kd / odds.diffuse));
             const float u1 = random.uniform(), u2 = random.uniform();
-            ray = Ray{hit.position, cosine_direction(n, u1, u2), eps, ray_infinity};
+            b.ray = Ray{hit.position, cosine_direction(n, u1, u2), eps, ray_infinity};
             continue;
         }
         // A6: a reflection carries ks; a transmission carries nothing at the surface, the
         // medium's ks^(d/d_u) is applied along the segment inside (above).
-        const glm::vec3 ks = m.air ? glm::vec3(1.0f) : m.ks;
-        const glm::vec3 reflected_power = saturate(power * (ks / odds.specular));  // ks / odds is at most 3
-        const glm::vec3 n = glm::dot(hit.normal, ray.direction) < 0.0f ? hit.normal : -hit.normal;
-        ++specular_bounces;
+        const glm::vec3 reflected_power = saturate(b.power * (ks / odds.specular));  // ks / odds is at most 3
+        ++b.specular_bounces;
         if (!m.transparent) {
-            power = reflected_power;
-            ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
+            b.power = reflected_power;
+            b.ray = Ray{hit.position, glm::reflect(b.ray.direction, n), eps, ray_infinity};
             continue;
         }
-        const MediumTransition t = medium_transition(hit, ray.direction, media);
-        const float n1 = t.from < 0 ? 1.0f : materials[t.from].refractive_index;
-        const float n2 = t.to < 0 ? 1.0f : materials[t.to].refractive_index;
-        const float reflectance = fresnel_reflectance(n1, n2, -glm::dot(n, ray.direction));
+        const Interface face = interface_at(materials, hit, b, n);
         glm::vec3 refracted;
-        if (random.uniform() >= reflectance && refract_direction(ray.direction, n, n1, n2, refracted)) {
-            power = saturate(power / odds.specular);
-            media = t.after;
-            ray = Ray{hit.position, refracted, eps, ray_infinity};
+        if (random.uniform() >= face.reflectance && refract_direction(b.ray.direction, n, face.n1, face.n2, refracted)) {
+            b.power = saturate(b.power / odds.specular);
+            b.media = face.transition.after;
+            b.ray = Ray{hit.position, refracted, eps, ray_infinity};
         } else {
-            power = reflected_power;
-            ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
+            b.power = reflected_power;
+            b.ray = Ray{hit.position, glm::reflect(b.ray.direction, n), eps, ray_infinity};
         }
     }
 }
@@ -212,7 +301,8 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                 origin += light.radius * s;
             }
             trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, energy, settings.max_depth,
-                         static_cast<float>(settings.unit_distance), settings.global_illumination, random, out);
+                         static_cast<float>(settings.unit_distance), settings.global_illumination, settings.split, random,
+                         out);
         };
         if (map) {
             // Directions are drawn inside the map's occupied cells only: each cell gets its share

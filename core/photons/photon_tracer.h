@@ -35,6 +35,9 @@ struct PhotonPassSettings {
     int pass = 0;
     std::uint64_t sequence_seed = 0;
     int max_depth = 8;  ///< specular interactions before a photon is dropped
+    /// At mirrors and dielectrics, carry the specular weight instead of playing roulette on it, and
+    /// follow both the reflected and the refracted photon (a weak branch still plays roulette).
+    bool split = false;
     /// Every path with at least one bounce is stored at each diffuse hit and continues by a
     /// Lambertian bounce (issue 11, --gi); no projection map. Otherwise caustic paths only.
     bool global_illumination = false;

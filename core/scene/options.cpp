@@ -259,6 +259,10 @@ const std::vector<OptionSpec>& option_table() {
         choice<bool>("caustic-filter", "none|cone", "caustics",
                      "radiance-estimate filter: the seed's disc average, or Jensen's cone", &Options::caustic_cone_filter,
                      {{"none", false}, {"cone", true}}),
+        choice<bool>("photon-split", "on|off", "caustics",
+                     "progressive: carry the specular weight at mirrors and glass and follow both the reflected and "
+                     "the refracted photon, instead of Russian roulette",
+                     &Options::photon_split, {{"on", true}, {"off", false}}),
         choice<bool>("photon-emission", "ld|random", "caustics",
                      "photon directions: low-discrepancy (Hammersley) or random", &Options::photon_random_emission,
                      {{"ld", false}, {"random", true}}),
