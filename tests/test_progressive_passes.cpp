@@ -5,6 +5,7 @@
 #include "scene_test_helpers.h"
 #include "test_support.h"
 
+#include "core/render/image_error.h"
 #include "core/util/sanitized.h"
 
 #include <gtest/gtest.h>
@@ -68,33 +69,18 @@ TEST(ProgressivePasses, VirtualLightErrorFallsWithPasses) {
     EXPECT_LT(errors[2], 0.6 * errors[1]);
 }
 
-/// The relative RMSE of the shown (clamped) values over the caustic region as the renderer and
-/// bench/trade define it: pixels whose true value reaches 10% of the 99th percentile of the
-/// non-zero true values. Errors of the mean of the channels.
+/// The caustic error (core/render/image_error.h), which the estimate estimates.
 double caustic_region_error(const Image& image, const Image& truth) {
-    auto value = [](const glm::vec3& c) { return (std::clamp(c.x, 0.0f, 1.0f) + std::clamp(c.y, 0.0f, 1.0f) +
-                                                  std::clamp(c.z, 0.0f, 1.0f)) / 3.0; };
-    auto raw = [](const glm::vec3& c) { return (c.x + c.y + c.z) / 3.0; };
-    std::vector<double> lit;
-    for (const glm::vec3& c : truth.pixels)
-        if (raw(c) > 0.0) lit.push_back(raw(c));
-    std::sort(lit.begin(), lit.end());
-    const double threshold = 0.1 * lit[static_cast<std::size_t>(0.99 * static_cast<double>(lit.size() - 1))];
-    double squared = 0.0, sum = 0.0, n = 0.0;
-    for (std::size_t i = 0; i < truth.pixels.size(); ++i) {
-        if (raw(truth.pixels[i]) < threshold) continue;
-        const double d = value(image.pixels[i]) - value(truth.pixels[i]);
-        squared += d * d;
-        sum += value(truth.pixels[i]);
-        n += 1.0;
-    }
-    return std::sqrt(squared / n) / (sum / n);
+    return compare_images(image, truth, caustic_region(truth)).rel_rmse;
 }
 
-// The renderer's own estimate of its remaining error stays within a factor 2 of the true error,
-// both measured over the caustic region (the estimate cannot know the annulus), against the
-// pixel-averaged analytic answer (the mirrored light's direct light, accumulated: the passes
-// jitter their samples inside the pixels, so they converge to pixel averages).
+// The renderer's own estimate of its remaining error stays within a factor 2 of the true error
+// from pass 4 on, both measured over the caustic region (the estimate cannot know the annulus),
+// against the pixel-averaged analytic answer (the mirrored light's direct light, accumulated: the
+// passes jitter their samples inside the pixels, so they converge to pixel averages). The
+// region includes the annulus's sharp rims, where the blur goes as r, not as the r^2 of the
+// estimate's model: there it reads the blur low, by up to 1.8 times for a straight step
+// (docs/ACCURACY.md), so the estimate falls from 1.2 to about 0.6 times the truth over the passes.
 TEST(ProgressivePasses, ErrorEstimateTracksTheTrueErrorOnTheVirtualLight) {
     JobBuilder reference = caustica::testing::virtual_light_scene(true);
     reference.job.width = reference.job.height = 96;
@@ -103,18 +89,20 @@ TEST(ProgressivePasses, ErrorEstimateTracksTheTrueErrorOnTheVirtualLight) {
     reference.job.options.reproducible = true;
     reference.job.miss_colour = {0, 0, 0};
     const Image truth = caustica::testing::render(reference.build());
-    for (int passes : {4, 16, 64}) {
-        const RenderJob job = progressive_virtual_light(96, 20'000, 20, passes);
-        RenderSession session;
-        session.set_job(job);
-        session.start();
+    RenderJob job = progressive_virtual_light(96, 20'000, 20, 4);
+    RenderSession session;
+    session.set_job(job);
+    for (int passes : {4, 8, 16, 32, 64}) {
+        session.set_stop_rules(passes, 0.0, 0.0);
+        if (passes == 4) session.start();
+        else ASSERT_TRUE(session.resume());
         ASSERT_TRUE(session.wait());
         const double truth_error = caustic_region_error(session.image(), truth);
         const RenderStats::Accumulation a = session.stats().accumulation;
-        std::printf("%d passes: true %.4f, estimated %.4f (noise %.4f, bias %.4f), radius %.4f -> %.4f\n", passes,
+        std::printf("%d passes: true %.4f, estimated %.4f (noise %.4f, blur %.4f), radius %.4f -> %.4f\n", passes,
                     truth_error, a.error, a.noise, a.bias, a.first_radius, a.radius);
-        EXPECT_GT(a.error, 0.5 * truth_error);
-        EXPECT_LT(a.error, 2.0 * truth_error);
+        EXPECT_GT(a.error, truth_error / 2.0) << passes;
+        EXPECT_LT(a.error, 2.0 * truth_error) << passes;
     }
 }
 

@@ -43,8 +43,8 @@ struct ShadingSetup {
     PhotonFilter caustic_filter = PhotonFilter::none;  ///< progressive only
     /// Progressive passes: the pass's photons in a hashed grid (null: the k-nearest estimate on
     /// caustic_map). A gather at path length l from the camera (reflections and refractions
-    /// unfolded) takes the photons within min(caustic_max_distance, footprint_radius l) times
-    /// `radius_scale`: a radius fixed in pixel footprints, shrunk pass by pass.
+    /// unfolded) takes the photons within min(caustic_max_distance, footprint_radius l
+    /// radius_scale): a radius fixed in pixel footprints, shrunk pass by pass.
     const PhotonGrid* caustic_grid = nullptr;
     float footprint_radius = 0.0f;
     float radius_scale = 1.0f;

@@ -65,9 +65,9 @@ private:
                          const glm::vec3& kd, const PathState& path, RandomStream& random,
                          RayCounters& counters) const;
     float medium_index(int material) const;
-    /// kd E at a diffuse hit `distance` along the path from the camera.
+    /// kd E at a diffuse hit `distance` along the path from the camera, reached with `weight`.
     glm::vec3 caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd, float distance,
-                               RayCounters& counters) const;
+                               const glm::vec3& weight, RayCounters& counters) const;
     glm::vec3 debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const;
 
     ShadingSetup setup_;

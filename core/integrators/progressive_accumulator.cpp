@@ -1,5 +1,7 @@
 #include "core/integrators/progressive_accumulator.h"
 
+#include "core/render/image_error.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,9 +10,6 @@ namespace {
 
 double channel_mean(const glm::vec3& c) { return (static_cast<double>(c.x) + c.y + c.z) / 3.0; }
 
-/// A pixel is in the caustic region when its mean photon radiance reaches this fraction of the
-/// 99th percentile of the non-zero ones: the rule bench/trade applies to its references.
-constexpr double region_fraction = 0.1;
 
 /// Fixed-point units: colour in 2^-8 and 2^-40, statistics in 2^-16.
 constexpr double colour_high_unit = 256.0, colour_low_unit = 4294967296.0, stat_unit = 65536.0;
@@ -44,6 +43,36 @@ double variance_of_mean(double n, std::int64_t sum, std::int64_t square_high, st
     return static_cast<double>(spread) / (n * n * (n - 1.0)) / (stat_unit * stat_unit);
 }
 
+/// The variance of a pixel as shown (clamped to [0, 1]) when its raw mean m has variance v:
+/// E[(clamp(m + e) - clamp(m))^2] for a normal e, by five-point Gauss-Hermite quadrature. A pixel
+/// well inside [0, 1] keeps v; one far above 1 has almost none.
+double shown_variance(double m, double v) {
+    if (!(v > 0.0)) return 0.0;
+    static constexpr double nodes[] = {-2.8569700138728056, -1.3556261799742659, 0.0, 1.3556261799742659,
+                                       2.8569700138728056};
+    static constexpr double weights[] = {0.011257411327720691, 0.22207592200561266, 0.5333333333333333,
+                                         0.22207592200561266, 0.011257411327720691};
+    const double sigma = std::sqrt(v), at = std::clamp(m, 0.0, 1.0);
+    double sum = 0.0;
+    for (int k = 0; k < 5; ++k) {
+        const double d = std::clamp(m + sigma * nodes[k], 0.0, 1.0) - at;
+        sum += weights[k] * d * d;
+    }
+    return sum;
+}
+
+/// The squared blur of a pixel as shown (clamped to [0, 1]), from its raw mean m, the raw blur
+/// b the radius probe measures and the variance v of that measurement: the shown blur is
+/// clamp(m) - clamp(m - b) (none where the pixel shows white either way), and the probe's
+/// variance passes through in the same proportion and is subtracted. (The caller bounds the
+/// result on both sides by the most a shown value can be wrong: a probe far noisier than its
+/// mean would otherwise swing the region's sum.)
+double shown_blur2(double m, double b, double v) {
+    const double shown = std::clamp(m, 0.0, 1.0) - std::clamp(m - b, 0.0, 1.0);
+    const double slope = b != 0.0 ? shown / b : (m > 0.0 && m < 1.0 ? 1.0 : 0.0);
+    return shown * shown - slope * slope * v;
+}
+
 }  // namespace
 
 void ProgressiveAccumulator::reset(int width, int height) {
@@ -63,11 +92,18 @@ glm::vec3 ProgressiveAccumulator::add(std::size_t index, const PassSample& sampl
         s[colour_high + c] += static_cast<std::int64_t>(high);
         s[colour_low + c] += std::llround((scaled - high) * colour_low_unit);
     }
-    add_with_square(&s[value], &s[value2_high], &s[value2_low], to_stat(channel_mean(sample.colour)));
+    const double v = channel_mean(sample.colour);
+    add_with_square(&s[value], &s[value2_high], &s[value2_low], to_stat(v));
     s[photon] += to_stat(std::max(0.0, sample.photon));
-    // E[L_r] - E[L_{r/sqrt 2}] = (r^2/8 - r^2/16) Laplacian: twice it is the bias at r.
-    add_with_square(&s[bias], &s[bias2_high], &s[bias2_low], to_stat(2.0 * (sample.photon - sample.photon_inner)));
+    // E[L_r] - E[L_{r/sqrt 2}] = (r^2/8 - r^2/16) Laplacian: twice it is the blur at r, on the
+    // raw values (estimate_error takes it to the shown ones, on the pixel's mean).
+    const std::int64_t probe = to_stat(2.0 * (sample.photon - sample.photon_inner));
+    add_with_square(&s[bias], &s[bias2_high], &s[bias2_low], probe);
     s[count_slot] += 1;
+    const int group = std::clamp(sample.group, 0, replicate_groups - 1);
+    s[group_value + group] += to_stat(v);
+    if (group < replicate_groups - 1) s[group_count + group] += 1;  // the last group's: the rest
+    s[group_bias + group] += probe;
     return mean(index);
 }
 
@@ -92,7 +128,7 @@ Image ProgressiveAccumulator::image() const {
 ErrorEstimate ProgressiveAccumulator::estimate_error() const {
     ErrorEstimate e;
     const std::size_t pixels = sums_.size() / sums_per_pixel;
-    auto at = [&](std::size_t i, Slot slot) { return static_cast<double>(sums_[i * sums_per_pixel + slot]); };
+    auto at = [&](std::size_t i, std::size_t slot) { return static_cast<double>(sums_[i * sums_per_pixel + slot]); };
     std::vector<double> lit;
     for (std::size_t i = 0; i < pixels; ++i)
         if (at(i, photon) > 0.0) lit.push_back(at(i, photon) / at(i, count_slot));
@@ -102,44 +138,86 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
     if (!lit.empty()) {
         auto percentile = lit.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(lit.size() - 1));
         std::nth_element(lit.begin(), percentile, lit.end());
-        threshold = region_fraction * *percentile;
+        threshold = caustic_region_fraction * *percentile;  // the rule of caustic_region()
     }
+    // Once every pixel of the region has passes in each replicate group, the noise from the
+    // groups: per pixel the groups' means m_g of the sample values are independent replicates of
+    // variance s^2, whatever the correlations between the passes inside a group (low-discrepancy
+    // patterns make them negative). With M = (m_0 + m_1 + m_2 + m_3) / 4, the image's mean,
+    // E[sum (m_g - M)^2] = 3 s^2 and the variance of M is s^2 / 4: the sum over 12. Before that (passes 2 and
+    // 3) the spread between all the passes, as if they were independent. The blur in both
+    // cases from the radius probe: its mean squared, less its own variance (from its groups'
+    // spread likewise). Summed over the region both are unbiased; a pixel's term may be negative.
+    bool groups = true;
     double noise2 = 0.0, bias2_sum = 0.0, shown = 0.0;
     std::size_t region = 0;
-    for (std::size_t i = 0; i < pixels; ++i) {
-        const double n = at(i, count_slot);
-        if (n < 2.0) continue;
-        const double photon_mean = at(i, photon) / n;
-        if (!(photon_mean >= threshold)) continue;
-        ++region;
-        const std::int64_t* sum = &sums_[i * sums_per_pixel];
-        const double value = at(i, Slot::value) / stat_unit / n;
-        // Variances of the means of n passes, exact from the integer sums.
-        const double noise_var = variance_of_mean(n, sum[Slot::value], sum[value2_high], sum[value2_low]);
-        const double bias_mean = at(i, bias) / stat_unit / n;
-        const double bias_noise_var = variance_of_mean(n, sum[bias], sum[bias2_high], sum[bias2_low]);
-        shown += std::clamp(value, 0.0, 1.0);
-        // A pixel surely above 1 shows white, as its converged value most likely does (a bright
-        // caustic's blur lowers its peaks): it counts no error.
-        if (value - 2.0 * std::sqrt(noise_var) >= 1.0) continue;
-        noise2 += noise_var;
-        // The squared mean probe is the squared bias plus the probe's own variance (a difference
-        // of two noisy estimates: about twice the image's noise), which is subtracted: summed over
-        // the region this is unbiased where the bias is small. The shown value cannot move by more
-        // than to 0 (a positive bias) or to 1 (a negative one): near focal spots the probe is
-        // huge and that bound is what counts. (Clamping to the noisy corrected value instead would
-        // turn the probe's noise into bias everywhere.)
-        const double shown_value = std::clamp(value, 0.0, 1.0);
-        const double bound = bias_mean > 0.0 ? shown_value : 1.0 - shown_value;
-        bias2_sum += std::min(bias_mean * bias_mean - bias_noise_var, bound * bound);
+    auto pass_region = [&](auto&& add_pixel) {
+        for (std::size_t i = 0; i < pixels; ++i) {
+            const double n = at(i, count_slot);
+            if (n < 2.0) continue;
+            if (!(at(i, photon) / n >= threshold)) continue;
+            add_pixel(i, n);
+        }
+    };
+    pass_region([&](std::size_t i, double n) {
+        double counts = n;
+        for (int g = 0; g < replicate_groups - 1; ++g) {
+            counts -= at(i, group_count + static_cast<std::size_t>(g));
+            if (at(i, group_count + static_cast<std::size_t>(g)) < 1.0) groups = false;
+        }
+        if (counts < 1.0) groups = false;
+    });
+    if (groups) {
+        pass_region([&](std::size_t i, double n) {
+            ++region;
+            double m[replicate_groups], b[replicate_groups], last_count = n;
+            for (int g = 0; g < replicate_groups; ++g) {
+                const double count = g < replicate_groups - 1 ? at(i, group_count + static_cast<std::size_t>(g)) : last_count;
+                if (g < replicate_groups - 1) last_count -= count;
+                m[g] = at(i, group_value + static_cast<std::size_t>(g)) / stat_unit / count;
+                b[g] = at(i, group_bias + static_cast<std::size_t>(g)) / stat_unit / count;
+            }
+            const double pixel = std::clamp(at(i, value) / stat_unit / n, 0.0, 1.0);
+            shown += pixel;
+            const double mm = 0.25 * (m[0] + m[1] + m[2] + m[3]), bm = 0.25 * (b[0] + b[1] + b[2] + b[3]);
+            double spread = 0.0, bias_spread = 0.0;
+            for (int g = 0; g < replicate_groups; ++g) {
+                spread += (m[g] - mm) * (m[g] - mm);
+                bias_spread += (b[g] - bm) * (b[g] - bm);
+            }
+            // Every group surely above 1 shows white, as the converged value most likely does.
+            if (*std::min_element(m, m + replicate_groups) >= 1.0) return;
+            // The shown value cannot be wrong by more than the way to 0 or to 1: a pixel that holds
+            // a spot far above 1 has a huge spread and at most that error.
+            const double bound = std::max(pixel, 1.0 - pixel);
+            noise2 += std::min(shown_variance(at(i, value) / stat_unit / n, spread / 12.0), bound * bound);
+            bias2_sum += std::clamp(shown_blur2(at(i, value) / stat_unit / n, at(i, bias) / stat_unit / n, bias_spread / 12.0),
+                                    -bound * bound, bound * bound);
+        });
+    } else {
+        pass_region([&](std::size_t i, double n) {
+            ++region;
+            const std::int64_t* sum = &sums_[i * sums_per_pixel];
+            const double v = at(i, Slot::value) / stat_unit / n;
+            // Variances of the means of n passes, exact from the integer sums.
+            const double noise_var = variance_of_mean(n, sum[Slot::value], sum[value2_high], sum[value2_low]);
+            const double bias_mean = at(i, bias) / stat_unit / n;
+            const double bias_noise_var = variance_of_mean(n, sum[bias], sum[bias2_high], sum[bias2_low]);
+            shown += std::clamp(v, 0.0, 1.0);
+            // A pixel surely above 1 shows white, as its converged value most likely does.
+            if (v - 2.0 * std::sqrt(noise_var) >= 1.0) return;
+            noise2 += shown_variance(v, noise_var);
+            const double bound = std::max(std::clamp(v, 0.0, 1.0), 1.0 - std::clamp(v, 0.0, 1.0));
+            bias2_sum += std::clamp(shown_blur2(v, bias_mean, bias_noise_var), -bound * bound, bound * bound);
+        });
     }
     if (region == 0 || !(shown > 0.0)) return e;
     const double mean = shown / static_cast<double>(region);
-    const double bias_only = std::max(0.0, bias2_sum);
     e.known = true;
+    e.from_groups = groups;
     e.region_pixels = region;
     e.noise = std::sqrt(noise2 / static_cast<double>(region)) / mean;
-    e.bias = std::sqrt(bias_only / static_cast<double>(region)) / mean;
+    e.bias = std::sqrt(std::max(0.0, bias2_sum) / static_cast<double>(region)) / mean;
     e.relative = std::sqrt(e.noise * e.noise + e.bias * e.bias);
     return e;
 }

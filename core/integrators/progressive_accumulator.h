@@ -1,7 +1,6 @@
-// Progressive photon mapping's image side (issue 11): the per-pixel sums of every pass's sample,
-// from which the image is the mean, and the renderer's own estimate of its remaining error
-// (noise from the spread between passes, bias from the radius probe). Memory is fixed by the
-// image size, whatever the number of passes.
+// Progressive photon mapping's image side: the per-pixel sums of every pass's sample, from which
+// the image is the mean, and the renderer's own estimate of its remaining error (docs/ACCURACY.md,
+// "The renderer's estimate"). Memory is fixed by the image size, whatever the number of passes.
 #pragma once
 
 #include "core/render/image.h"
@@ -14,18 +13,25 @@
 
 namespace caustica {
 
+/// Passes are dealt into this many groups, independent replicates of the accumulation (pass p
+/// into group p mod 4), each with its own photon and pixel sequences. The spread between the
+/// groups measures the noise, whatever the correlations between the passes of one group.
+inline constexpr int replicate_groups = 4;
+
 /// One pass's contribution to a pixel.
 struct PassSample {
     glm::vec3 colour{0.0f};
     /// The photon radiance kd E gathered along the sample's path (mean of the channels), at the
-    /// pass radius r and at r / sqrt 2.
+    /// pass radius r and at r / sqrt 2 (the blur probe of the estimate).
     double photon = 0.0, photon_inner = 0.0;
+    int group = 0;  ///< the replicate group of the pass (0 to replicate_groups - 1)
 };
 
 /// The renderer's estimate of the relative RMSE of the accumulated image over its caustic region,
 /// on the values the PNG shows (clamped to [0, 1]), against the converged image.
 struct ErrorEstimate {
     bool known = false;            ///< needs at least 2 passes and a caustic region
+    bool from_groups = false;      ///< from the replicate groups (every group has passes), not the probe
     double relative = 0.0;         ///< sqrt(noise^2 + bias^2) / mean over the region
     double noise = 0.0, bias = 0.0;  ///< the two parts, relative as well
     std::size_t region_pixels = 0;
@@ -43,14 +49,14 @@ inline constexpr int max_accumulated_passes = 1 << 23;
 /// The per-pixel sums of a progressive accumulation, in integers: each pass's sample is rounded
 /// to fixed point once and added exactly, so the sums do not depend on the order the passes are
 /// added in. Ranks that ran different passes add their sums (Cluster::reduce_sum) and get the
-/// bits one process gets (issue 13). Colour is held to 2^-40 (two int64 per channel, up to 2^31
-/// per sample); the error statistics to 2^-16 with exact squares (two int64 each), so a pixel
-/// that does not change between passes has a variance of exactly 0. Up to max_accumulated_passes
-/// passes. 112 bytes per pixel.
+/// bits one process gets. Colour is held to 2^-40 (two int64 per channel, up to 2^31 per sample);
+/// the error statistics to 2^-16 with exact squares (two int64 each), so a pixel that does not
+/// change between passes has a variance of exactly 0; each replicate group's value sum and count.
+/// Up to max_accumulated_passes passes. 200 bytes per pixel.
 class ProgressiveAccumulator {
 public:
     /// int64 sums per pixel (see sums()).
-    static constexpr std::size_t sums_per_pixel = 14;
+    static constexpr std::size_t sums_per_pixel = 25;
 
     /// Empties the sums for an image of this size.
     void reset(int width, int height);
@@ -88,10 +94,11 @@ private:
     // Per pixel: colour in two parts (units of 2^-8, and the remainder in units of 2^-40); in
     // units of 2^-16 (q = x 2^16, |x| < 2^16) the sample value v (mean of the channels) and its
     // square q^2 in two parts (q^2 >> 32, q^2 & (2^32 - 1)), the photon probe, the bias probe and
-    // its square likewise; the sample count.
+    // its square likewise; the sample count; per replicate group the sum of the values (units of
+    // 2^-16), but for the last the count, and the sum of the bias probe.
     enum Slot : std::size_t {
         colour_high = 0, colour_low = 3, value = 6, value2_high, value2_low, photon, bias, bias2_high, bias2_low,
-        count_slot
+        count_slot, group_value = 14, group_count = 18, group_bias = 21
     };
     bool counts_empty() const { return sums_.empty(); }
     int width_ = 0, height_ = 0;

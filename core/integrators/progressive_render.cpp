@@ -70,9 +70,12 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
     // does not depend on what else the thread's counters summed: the same bits for any thread count.
     const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
     double photon_total = 0.0, inner_total = 0.0;
-    // The sample's place in the pixel: pass after pass a step of the R2 sequence from a start
-    // fixed per pixel, so a pixel's samples cover it evenly whatever the number of passes.
+    // The sample's place in the pixel: pass after pass of a replicate group, a step of the R2
+    // sequence from a start fixed per pixel and group, so a pixel's samples cover it evenly
+    // whatever the number of passes, and the groups stay independent of each other.
     const double step_x = 0.7548776662466927, step_y = 0.5698402909980532;
+    const int group = pass % replicate_groups;
+    const double step = static_cast<double>(pass / replicate_groups);
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; x += 8) {
             Ray rays[8];
@@ -81,8 +84,8 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
             for (int i = 0; i < 8; ++i) {
                 valid[i] = x + i < tile.x1;
                 const std::size_t index = static_cast<std::size_t>(y) * out.width + x + i;
-                RandomStream start(context.seed, index, 15);
-                double jx = start.uniform() + step_x * pass, jy = start.uniform() + step_y * pass;
+                RandomStream start(context.seed, index, 12 + static_cast<std::uint64_t>(group));
+                double jx = start.uniform() + step_x * step, jy = start.uniform() + step_y * step;
                 jx -= std::floor(jx);
                 jy -= std::floor(jy);
                 rays[i] = context.camera->generate(static_cast<float>(x + i) + static_cast<float>(jx),
@@ -98,6 +101,7 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
                 sample.colour = colour[i];
                 sample.photon = photon[i];
                 sample.photon_inner = inner[i];
+                sample.group = group;
                 photon_total += sample.photon;
                 inner_total += sample.photon_inner;
                 ++counters.samples;
@@ -243,7 +247,8 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 extras.first = first_stage;
                 extras.progress = &host.photon_progress();
                 extras.photons_only = true;
-                extras.pass = p;
+                extras.pass = p / replicate_groups;
+                extras.group = p % replicate_groups;
                 host.photon_progress() = 0;
                 host.report([&](SessionProgress& progress, RenderStats&) {
                     progress.photons_done = 0;

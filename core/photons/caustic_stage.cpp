@@ -123,6 +123,7 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.emission = o.photon_random_emission ? PhotonEmission::random : PhotonEmission::low_discrepancy;
     settings.seed = extras.first ? extras.seed : stage_seed(o);
     settings.sequence_seed = extras.first ? extras.first->sequence_seed : settings.seed;
+    if (extras.group > 0) settings.sequence_seed = hash_combine(settings.sequence_seed, static_cast<std::uint64_t>(extras.group));
     settings.pass = extras.pass;
     settings.max_depth = o.max_depth;
     settings.split = o.photon_split;

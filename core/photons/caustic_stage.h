@@ -67,7 +67,8 @@ struct PhotonPassExtras {
     const CausticStage* first = nullptr; ///< the first pass: its projection maps are reused
     std::atomic<long long>* progress = nullptr;  ///< counts directions considered
     bool photons_only = false;           ///< keep the photons in CausticStage::photons, build no map
-    int pass = 0;                        ///< the pass's index (its place in the directions' sequence)
+    int pass = 0;                        ///< the pass's place in its group's sequence of directions
+    int group = 0;                       ///< its replicate group: each group's directions are their own sequence
 };
 
 /// A progressive integrator's photon pass (issue 11): with `extras.first`, a fresh photon stream

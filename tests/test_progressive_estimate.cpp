@@ -1,0 +1,91 @@
+// The progressive integrator's estimate of its own error (docs/ACCURACY.md, "The renderer's
+// estimate") on a sharp caustic, against a long accumulation of the same scene with other seeds,
+// and the --target-error rule it drives: stopped at E, the true error is at most 1.5 E.
+// (The smooth caustic with an analytic answer: test_progressive_passes.cpp.)
+#include "scene_test_helpers.h"
+#include "test_support.h"
+
+#include "core/render/image_error.h"
+#include "core/util/sanitized.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+using namespace caustica;
+
+namespace {
+
+/// The glass ball's focus (scene_test_helpers.h): a caustic with sharp edges.
+RenderJob focus_scene(int passes, long long seed) {
+    RenderJob job = caustica::testing::glass_ball_focus_job();
+    job.options.passes = passes;
+    job.options.seed = seed;
+    return job;
+}
+
+/// The caustic error (core/render/image_error.h), which the estimate estimates.
+double region_error(const Image& image, const Image& reference) {
+    return compare_images(image, reference, caustic_region(reference)).rel_rmse;
+}
+
+/// The long accumulation the estimates are judged against. Its blur, which a longer run of the
+/// same scene would share (the radius shrinks slowly: r^2 ~ passes^-0.3), is cut by a radius of
+/// one pixel footprint instead of three (a ninth of the blur at the start), and its noise by four
+/// times the photons a pass over 256 passes: at 64 passes of the scene as rendered, its blur is
+/// under a tenth and its noise about three quarters of the image's, for the cost of 1024 passes.
+const Image& focus_reference() {
+    static const Image reference = [] {
+        RenderJob job = focus_scene(sanitized_build ? 64 : 256, 99);
+        job.options.accumulation_radius = 1.0;
+        job.options.caustic_num_photons = 160'000;
+        return caustica::testing::render(job);
+    }();
+    return reference;
+}
+
+}  // namespace
+
+// From pass 4 on (every replicate group has passes) the estimate is within a factor 1.5 of the
+// true error, on a caustic whose blur goes as the radius, not its square, at the focus's edges.
+TEST(ProgressiveEstimate, WithinAFactorOneAndAHalfOnASharpCaustic) {
+    const Image& reference = focus_reference();
+    RenderSession session;
+    session.set_job(focus_scene(4, 1));
+    for (int passes : {4, 8, 16, 32, 64}) {
+        session.set_stop_rules(passes, 0.0, 0.0);
+        if (passes == 4) session.start();
+        else ASSERT_TRUE(session.resume());
+        ASSERT_TRUE(session.wait());
+        const double truth = region_error(session.image(), reference);
+        const RenderStats::Accumulation a = session.stats().accumulation;
+        std::printf("focus, %d passes: true %.4f, estimated %.4f (noise %.4f, blur %.4f)\n", passes, truth, a.error,
+                    a.noise, a.bias);
+        EXPECT_GT(a.error, truth / 1.5) << passes;
+        EXPECT_LT(a.error, 1.5 * truth) << passes;
+    }
+}
+
+// --target-error E: the render stops once its estimate is at E or below, and its true error is
+// then at most 1.5 E.
+TEST(ProgressiveEstimate, ATargetErrorStopsWithATrueErrorOfAtMostOneAndAHalfTimesIt) {
+    const Image& reference = focus_reference();
+    for (double target : {0.2, 0.1}) {
+        RenderJob job = focus_scene(0, 2);
+        job.options.target_error = target;
+        job.options.time_limit = 60.0;  // a rule that is never met fails the test, it does not hang it
+        RenderSession session;
+        session.set_job(job);
+        session.start();
+        ASSERT_TRUE(session.wait());
+        const RenderStats::Accumulation a = session.stats().accumulation;
+        const double truth = region_error(session.image(), reference);
+        std::printf("target %.2f: stopped by %s after %d passes, estimated %.4f, true %.4f\n", target,
+                    a.stopped_by.c_str(), a.passes, a.error, truth);
+        EXPECT_EQ(a.stopped_by, "target error");
+        EXPECT_LE(truth, 1.5 * target);
+    }
+}
