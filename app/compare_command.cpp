@@ -5,7 +5,9 @@
 #include "core/render/image_error.h"
 #include "core/scene/source_location.h"
 
+#include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace caustica {
 namespace {
@@ -21,6 +23,18 @@ const char* compare_usage =
     "does, render both caustics only:\n"
     "  caustica render --integrator progressive --draw-caustics-only --disable-aa SCENE.lua -o X.pfm\n";
 
+/// Refuses an image with a NaN or infinite value, naming the file and the first such pixel: its
+/// error would print as nan.
+void check_finite(const Image& image, const std::string& path) {
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        const glm::vec3& p = image.pixels[i];
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) continue;
+        const std::size_t width = static_cast<std::size_t>(image.width);
+        throw InputError(path + ": pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
+                         ") is not a finite number");
+    }
+}
+
 }  // namespace
 
 int run_compare_command(const std::vector<std::string>& args) {
@@ -32,6 +46,8 @@ int run_compare_command(const std::vector<std::string>& args) {
     if (args.size() != 2) throw InputError(std::string("compare takes an image and a reference\n\n") + compare_usage);
     const Image image = read_image_file(args[0]);
     const Image reference = read_image_file(args[1]);
+    check_finite(image, args[0]);
+    check_finite(reference, args[1]);
     if (image.width != reference.width || image.height != reference.height)
         throw InputError(args[0] + " is " + std::to_string(image.width) + " x " + std::to_string(image.height) + ", " +
                          args[1] + " is " + std::to_string(reference.width) + " x " +

@@ -31,7 +31,7 @@ TEST(CausticError, TheRegionIsATenthOfTheNinetyNinthPercentile) {
     Image reference = lit_reference();
     // 11 non-zero shown values: ten of 0.5 and one of 1; the 99th percentile is element
     // floor(0.99 x 10) = 9 of the sorted list, 0.5: the threshold is 0.05.
-    reference.pixels[60] = glm::vec3(0.06f);  // above it: counted (12 values now, percentile still 0.5)
+    reference.pixels[60] = glm::vec3(0.06f);  // above it: counted (13 values now, percentile still 0.5)
     reference.pixels[61] = glm::vec3(0.04f);  // below it: not
     const std::vector<std::size_t> region = caustic_region(reference);
     EXPECT_EQ(region.size(), 12u);
@@ -88,6 +88,9 @@ TEST_F(CompareCommand, BadArgumentsAndFilesAreClearErrors) {
     write_pfm_atomic((dir_ / "reference.pfm").string(), lit_reference());
     write_pfm_atomic((dir_ / "small.pfm").string(), Image(4, 4));
     write_pfm_atomic((dir_ / "black.pfm").string(), Image(10, 10));
+    Image broken = lit_reference();
+    broken.pixels[23] = glm::vec3(0.0f, std::nanf(""), 0.0f);
+    write_pfm_atomic((dir_ / "nan.pfm").string(), broken);
     struct Case {
         std::string args, says;
     } cases[] = {
@@ -95,6 +98,7 @@ TEST_F(CompareCommand, BadArgumentsAndFilesAreClearErrors) {
         {"small.pfm reference.pfm", "small.pfm is 4 x 4, reference.pfm is 10 x 10"},
         {"reference.pfm black.pfm", "black.pfm: every pixel is black"},
         {"missing.pfm reference.pfm", "missing.pfm"},
+        {"nan.pfm reference.pfm", "nan.pfm: pixel (3, 2) is not a finite number"},
     };
     for (const Case& c : cases) {
         const auto r = run(c.args);

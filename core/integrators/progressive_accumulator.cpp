@@ -206,8 +206,9 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
             shown += std::clamp(v, 0.0, 1.0);
             // A pixel surely above 1 shows white, as its converged value most likely does.
             if (v - 2.0 * std::sqrt(noise_var) >= 1.0) return;
-            noise2 += shown_variance(v, noise_var);
+            // Bounded as below: the shown value cannot be wrong by more than the way to 0 or to 1.
             const double bound = std::max(std::clamp(v, 0.0, 1.0), 1.0 - std::clamp(v, 0.0, 1.0));
+            noise2 += std::min(shown_variance(v, noise_var), bound * bound);
             bias2_sum += std::clamp(shown_blur2(v, bias_mean, bias_noise_var), -bound * bound, bound * bound);
         });
     }

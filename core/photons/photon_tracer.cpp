@@ -65,8 +65,9 @@ struct Branch {
 /// (survives with probability share / this, its power divided by that): the 4% a glass reflects
 /// is traced one time in five, at five times the power.
 constexpr float split_floor = 0.2f;
-/// Branches waiting to be followed: a photon splits at most this many times.
-constexpr int max_pending_branches = 16;
+/// Room reserved for branches waiting to be followed (a photon rarely splits more often; the
+/// depth limit bounds how many can wait).
+constexpr int pending_branches_reserved = 16;
 
 float mean_of(const glm::vec3& v) { return (v.x + v.y + v.z) / 3.0f; }
 
@@ -98,7 +99,7 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
     // Only a splitting photon has branches waiting (allocated then only: a roulette photon's
     // trace must not pay for clearing them).
     std::vector<Branch> pending;
-    if (split) pending.reserve(max_pending_branches);
+    if (split) pending.reserve(pending_branches_reserved);
     Branch b{ray, power, MediumStack{}, 0, 0, 0};
     for (;;) {
         // Follows branch b until it ends, then the next one waiting.
@@ -154,9 +155,7 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
                 b.media = face.transition.after;
                 b.ray = Ray{hit.position, refracted, eps, ray_infinity};
                 if (!keep(b, glm::vec3(1.0f - reflectance))) b.depth = depth_limit + 1;
-                if (reflects) {
-                    if (pending.size() < static_cast<std::size_t>(max_pending_branches)) pending.push_back(reflected);
-                }
+                if (reflects) pending.push_back(reflected);
             } else {
                 b = reflected;
                 if (!reflects) b.depth = depth_limit + 1;

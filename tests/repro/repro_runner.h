@@ -31,7 +31,7 @@ bool sanitized_build();
 /// Factor on time bounds (wall clock and CPU time): 1, or 12 under a sanitizer (AddressSanitizer
 /// and UndefinedBehaviorSanitizer together run CSG- and allocation-heavy scenes 9-14 times
 /// slower), times how much slower this machine runs a fixed piece of work than the machine the
-/// bounds were set on, measured once per process (1 to 8; CAUSTICA_TIME_FACTOR sets it instead).
+/// bounds were set on, measured once per process (1 to 4; CAUSTICA_TIME_FACTOR sets it instead).
 double time_factor();
 
 /// Factor on when a test acts (sends Ctrl-C, rewrites a scene) and on the script time limits it
