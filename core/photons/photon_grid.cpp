@@ -28,6 +28,20 @@ std::int64_t cell_coordinate(float x, float inverse_cell) {
     return static_cast<std::int64_t>(std::clamp(c, -1e15, 1e15));
 }
 
+// The AVX2 and baseline versions of scan_runs and the loader's choice between them (an ifunc).
+// Not under ThreadSanitizer: its runtime is not up when the loader runs the chooser, which then
+// crashes the program before main; the baseline alone there.
+#if defined(__SANITIZE_THREAD__)
+#define CAUSTICA_SCAN_CLONES
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define CAUSTICA_SCAN_CLONES
+#endif
+#endif
+#ifndef CAUSTICA_SCAN_CLONES
+#define CAUSTICA_SCAN_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+
 struct Scan {
     Lanes sum_r, sum_g, sum_b, inner_r, inner_g, inner_b, count;
 };
@@ -36,7 +50,7 @@ struct Scan {
 /// against n (and within r2 / 2). Compiled twice, for AVX2 and for the baseline, the right one
 /// chosen when the program loads; the sums are the same bits either way (each lane adds its own
 /// photons in order, the lanes are added at the end in a fixed order).
-__attribute__((target_clones("avx2", "default"))) void scan_runs(const float* blocks, const std::uint32_t* runs,
+CAUSTICA_SCAN_CLONES void scan_runs(const float* blocks, const std::uint32_t* runs,
                                                                   int run_count, const glm::vec3& p, const glm::vec3& n,
                                                                   float r2, Scan& out) {
     const Lanes px = {p.x, p.x, p.x, p.x, p.x, p.x, p.x, p.x}, py = {p.y, p.y, p.y, p.y, p.y, p.y, p.y, p.y},
