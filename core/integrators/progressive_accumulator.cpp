@@ -167,6 +167,14 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
         }
         if (counts < 1.0) groups = false;
     });
+    // A pixel's terms, from its raw mean v, the variance of v, the probe's mean blur and its
+    // variance. The shown value cannot be wrong by more than the way to 0 or to 1: a pixel that
+    // holds a spot far above 1 has a huge spread and at most that error.
+    auto add_pixel_terms = [&](double v, double noise_var, double blur, double blur_var) {
+        const double pixel = std::clamp(v, 0.0, 1.0), bound = std::max(pixel, 1.0 - pixel);
+        noise2 += std::min(shown_variance(v, noise_var), bound * bound);
+        bias2_sum += std::clamp(shown_blur2(v, blur, blur_var), -bound * bound, bound * bound);
+    };
     if (groups) {
         pass_region([&](std::size_t i, double n) {
             ++region;
@@ -177,8 +185,8 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
                 m[g] = at(i, group_value + static_cast<std::size_t>(g)) / stat_unit / count;
                 b[g] = at(i, group_bias + static_cast<std::size_t>(g)) / stat_unit / count;
             }
-            const double pixel = std::clamp(at(i, value) / stat_unit / n, 0.0, 1.0);
-            shown += pixel;
+            const double v = at(i, value) / stat_unit / n;
+            shown += std::clamp(v, 0.0, 1.0);
             const double mm = 0.25 * (m[0] + m[1] + m[2] + m[3]), bm = 0.25 * (b[0] + b[1] + b[2] + b[3]);
             double spread = 0.0, bias_spread = 0.0;
             for (int g = 0; g < replicate_groups; ++g) {
@@ -187,12 +195,7 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
             }
             // Every group surely above 1 shows white, as the converged value most likely does.
             if (*std::min_element(m, m + replicate_groups) >= 1.0) return;
-            // The shown value cannot be wrong by more than the way to 0 or to 1: a pixel that holds
-            // a spot far above 1 has a huge spread and at most that error.
-            const double bound = std::max(pixel, 1.0 - pixel);
-            noise2 += std::min(shown_variance(at(i, value) / stat_unit / n, spread / 12.0), bound * bound);
-            bias2_sum += std::clamp(shown_blur2(at(i, value) / stat_unit / n, at(i, bias) / stat_unit / n, bias_spread / 12.0),
-                                    -bound * bound, bound * bound);
+            add_pixel_terms(v, spread / 12.0, at(i, bias) / stat_unit / n, bias_spread / 12.0);
         });
     } else {
         pass_region([&](std::size_t i, double n) {
@@ -206,10 +209,7 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
             shown += std::clamp(v, 0.0, 1.0);
             // A pixel surely above 1 shows white, as its converged value most likely does.
             if (v - 2.0 * std::sqrt(noise_var) >= 1.0) return;
-            // Bounded as below: the shown value cannot be wrong by more than the way to 0 or to 1.
-            const double bound = std::max(std::clamp(v, 0.0, 1.0), 1.0 - std::clamp(v, 0.0, 1.0));
-            noise2 += std::min(shown_variance(v, noise_var), bound * bound);
-            bias2_sum += std::clamp(shown_blur2(v, bias_mean, bias_noise_var), -bound * bound, bound * bound);
+            add_pixel_terms(v, noise_var, bias_mean, bias_noise_var);
         });
     }
     if (region == 0 || !(shown > 0.0)) return e;
