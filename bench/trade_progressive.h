@@ -17,6 +17,7 @@ struct ProgressiveRun {
     double radius = 0.0;    ///< --accumulation-radius: the first radius in pixel footprints (0: the default)
     double max_dist = 0.0;  ///< cap of the first radius
     bool split = false;     ///< --photon-split on
+    bool adaptive_radius = false;  ///< --adaptive-radius on
     int max_passes = 256;   ///< last checkpoint (a power of 2 or not: it is always measured)
     double max_seconds = 0.0;  ///< stop the checkpoints once this much render time is spent (0: none)
     std::string png_path;      ///< when set, the last checkpoint's image is written there (clamped linear)

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <chrono>
 #include <cstring>
 #include <limits>
@@ -142,6 +144,28 @@ TEST(Cluster, ProgressiveImageOnTwoAndThreeRanksIsOneProcesssBitForBit) {
         EXPECT_EQ(out[0].stats.accumulation.photons_emitted, alone_stats.accumulation.photons_emitted);
         EXPECT_EQ(out[0].stats.accumulation.error, alone_stats.accumulation.error);
         // Every rank's samples counted once: the r_1 pass of the ranks that do not own pass 0 adds none.
+        EXPECT_EQ(out[0].stats.rays.samples, alone_stats.rays.samples);
+    }
+}
+
+// With a radius per pixel the factors change before passes 8 and 32, from every rank's sums: a
+// round of ranks ends there, and 2 and 3 ranks still make one process's bits (3 ranks: rounds
+// 0-2, 3-5, 6-7, 8-10, ...).
+TEST(Cluster, AdaptedRadiiOnTwoAndThreeRanksAreOneProcesssBitForBit) {
+    RenderJob job = caustic_box(IntegratorKind::progressive);
+    job.options.adaptive_radius = true;
+    job.options.passes = 35;
+    RenderStats alone_stats;
+    const Image alone = render_alone(job, &alone_stats);
+    RenderJob fixed = job;
+    fixed.options.adaptive_radius = false;
+    ASSERT_GT(differing_pixels(render_alone(fixed), alone), 0);  // the factors changed the image
+    for (int ranks : {2, 3}) {
+        const auto out = render_on_ranks(std::vector<RenderJob>(static_cast<std::size_t>(ranks), job));
+        ASSERT_TRUE(std::all_of(out.begin(), out.end(), [](const RankOutcome& o) { return o.completed && !o.failure; }))
+            << ranks << " ranks";
+        EXPECT_EQ(differing_pixels(out[0].image, alone), 0) << ranks << " ranks";
+        EXPECT_EQ(out[0].stats.accumulation.passes, 35);
         EXPECT_EQ(out[0].stats.rays.samples, alone_stats.rays.samples);
     }
 }

@@ -90,7 +90,9 @@ TEST(ProgressiveEstimate, ATargetErrorStopsWithATrueErrorOfAtMostOneAndAHalfTime
                     a.stopped_by.c_str(), a.passes, a.error, truth);
         EXPECT_EQ(a.stopped_by, "target error");
         EXPECT_LE(truth, 1.5 * target);
-        if (target < 0.1) EXPECT_GT(a.passes, 4);
+        if (target < 0.1) {
+            EXPECT_GT(a.passes, 4);
+        }
     }
 }
 

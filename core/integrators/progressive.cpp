@@ -38,13 +38,15 @@ void ProgressiveIntegrator::trace_camera_rays8(const Ray* rays, const int* valid
     });
 }
 
-void ProgressiveIntegrator::trace_samples8(const Ray* rays, const int* valid, RandomStream* streams, glm::vec3* colour,
-                                           double* photon, double* photon_inner, RayCounters& counters) const {
+void ProgressiveIntegrator::trace_samples8(const Ray* rays, const int* valid, RandomStream* streams,
+                                           const float* radius_scales, glm::vec3* colour, double* photon,
+                                           double* photon_inner, RayCounters& counters) const {
     for (int i = 0; i < 8; ++i) photon[i] = photon_inner[i] = 0.0;
     trace_packet8(setup_, rays, valid, true, false, colour, counters, [&](int i, const SurfaceHit& hit, const float* visibility) {
         counters.photon_value = counters.photon_value_inner = 0.0;
         PathState path;
         path.known_visibility = visibility;
+        if (radius_scales) path.radius_scale = radius_scales[i];
         const glm::vec3 c = shade(rays[i], hit, path, streams[i], counters);
         photon[i] = counters.photon_value;
         photon_inner[i] = counters.photon_value_inner;
@@ -141,7 +143,7 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
                            : setup_.ambient * kd + direct_light(m, kd, m.ks, hit, n, to_eye, path.known_visibility,
                                                                 random, counters);
     if ((setup_.caustic_map || setup_.caustic_grid) && kd != glm::vec3(0.0f))
-        colour += caustic_radiance(hit, n, kd, path.distance + hit.t, path.weight, counters);
+        colour += caustic_radiance(hit, n, kd, path, path.distance + hit.t, counters);
     if (setup_.draw_caustic_map || !setup_.projection_maps.empty())
         colour = debug_overlays(hit, glm::length(hit.position - ray.origin), colour);
     if (m.reflective && path.depth < setup_.max_depth) {
@@ -160,14 +162,15 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
 }
 
 glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd,
-                                                  float distance, const glm::vec3& weight, RayCounters& counters) const {
+                                                  const PathState& path, float distance,
+                                                  RayCounters& counters) const {
     // Every gather also feeds the progressive probes (RayCounters): kd E at the radius and at the
     // inner radius r / sqrt 2, times the path's weight (what the pixel shows of them), and in a
     // progressive pass the radius.
     auto mean = [](const glm::vec3& c) { return (static_cast<double>(c.x) + c.y + c.z) / 3.0; };
     glm::vec3 irradiance(0.0f), inner(0.0f);
     if (setup_.caustic_grid) {  // a progressive pass: a radius fixed in pixel footprints, shrunk
-        const float radius = std::min(setup_.caustic_max_distance, setup_.footprint_radius * distance * setup_.radius_scale);
+        const float radius = std::min(setup_.caustic_max_distance, setup_.footprint_radius * distance * setup_.radius_scale * path.radius_scale);
         if (radius > 0.0f) {
             const GatherTimer timer(counters);
             counters.radius_log_sum += std::log(static_cast<double>(radius));
@@ -190,8 +193,8 @@ glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const g
     }
     // Saturated: a disc of tiny radius can make the estimate overflow.
     const glm::vec3 radiance = kd * saturate(irradiance);
-    counters.photon_value += mean(weight * radiance);
-    counters.photon_value_inner += mean(weight * kd * saturate(inner));
+    counters.photon_value += mean(path.weight * radiance);
+    counters.photon_value_inner += mean(path.weight * kd * saturate(inner));
     return radiance;
 }
 

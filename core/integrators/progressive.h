@@ -31,8 +31,9 @@ public:
     /// Up to 8 camera samples of a progressive pass as a packet (lanes with valid[i] == 0 are
     /// skipped): their colours, and the photon radiance each gathered at the pass radius and at
     /// radius / sqrt 2 (the probes of the error estimate; 0 for a lane that gathered nothing).
-    void trace_samples8(const Ray* rays, const int* valid, RandomStream* streams, glm::vec3* colour, double* photon,
-                        double* photon_inner, RayCounters& counters) const;
+    /// `radius_scales` (or null: all 1) multiplies each lane's gather radius: its pixel's own.
+    void trace_samples8(const Ray* rays, const int* valid, RandomStream* streams, const float* radius_scales,
+                        glm::vec3* colour, double* photon, double* photon_inner, RayCounters& counters) const;
 
     /// Colour of a ray that escapes the scene.
     glm::vec3 background(const glm::vec3& direction) const { return background_colour(setup_, direction); }
@@ -51,6 +52,7 @@ private:
         /// reflection/refraction tree grow as 2^depth.
         glm::vec3 weight{1.0f};
         float distance = 0.0f;  ///< path length from the camera to the ray's origin
+        float radius_scale = 1.0f;  ///< the pixel's own multiplier of the pass's gather radius
         MediumStack media;
         const float* known_visibility = nullptr;  ///< per light, from packets; primary hits only
     };
@@ -65,9 +67,9 @@ private:
                          const glm::vec3& kd, const PathState& path, RandomStream& random,
                          RayCounters& counters) const;
     float medium_index(int material) const;
-    /// kd E at a diffuse hit `distance` along the path from the camera, reached with `weight`.
-    glm::vec3 caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd, float distance,
-                               const glm::vec3& weight, RayCounters& counters) const;
+    /// kd E at a diffuse hit `distance` along `path` from the camera (its weight, its radius scale).
+    glm::vec3 caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd, const PathState& path,
+                               float distance, RayCounters& counters) const;
     glm::vec3 debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const;
 
     ShadingSetup setup_;

@@ -223,4 +223,70 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
     return e;
 }
 
+void ProgressiveAccumulator::adapt_radius_factors(std::vector<float>& factors,
+                                                  std::vector<std::int64_t>& previous) const {
+    // A pass at r^2 f has a blur f times and a variance 1/f times those at r^2 (the blur of a disc
+    // average grows as r^2, its photon count too). If the passes since the last update, all at f,
+    // had a blur b and a variance s^2 each, the n passes so far err least (squared) when the passes
+    // to come gather at f' = f (s^2 / 2 n b^2)^(1/3), where the squared blur is half the variance
+    // of the mean; the global sequence of radii then keeps that balance. Only those passes count:
+    // the blur of earlier ones, at other radii, is not what f' changes. b^2 and s^2 are noisy in
+    // one pixel: both are summed over a window of neighbours first (b^2 less its own variance, so
+    // that noise does not pass for blur).
+    constexpr int half_window = 3;
+    constexpr double min_factor = 1.0 / 16.0, max_factor = 1.0, max_step = 4.0;
+    const std::size_t pixels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+    if (factors.size() != pixels) factors.assign(pixels, 1.0f);
+    if (previous.size() != pixels * snapshot_slots) previous.assign(pixels * snapshot_slots, 0);
+    constexpr std::size_t kept[snapshot_slots] = {count_slot, Slot::value, value2_high, value2_low,
+                                                  bias, bias2_high, bias2_low};
+    std::vector<double> noise(pixels, 0.0), blur2(pixels, 0.0);
+    std::vector<char> lit(pixels, 0);
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const std::int64_t* s = &sums_[i * sums_per_pixel];
+        std::int64_t* before = &previous[i * snapshot_slots];
+        std::int64_t d[snapshot_slots];
+        for (std::size_t k = 0; k < snapshot_slots; ++k) {
+            d[k] = s[kept[k]] - before[k];
+            before[k] = s[kept[k]];
+        }
+        const double m = static_cast<double>(d[0]), n = static_cast<double>(s[count_slot]);
+        if (m < 2.0 || s[photon] <= 0) continue;
+        lit[i] = 1;
+        // On the values shown, as the error is measured (a pixel far above 1 has neither): the
+        // mean of every pass so far; variance_of_mean gives s^2 / m, and s^2 / n is that times m / n.
+        const double v = static_cast<double>(s[Slot::value]) / stat_unit / n;
+        noise[i] = shown_variance(v, variance_of_mean(m, d[1], d[2], d[3]) * m / n);
+        blur2[i] = shown_blur2(v, static_cast<double>(d[4]) / stat_unit / m, variance_of_mean(m, d[4], d[5], d[6]));
+    }
+    // Box sums over the window, rows then columns, in a fixed order.
+    auto box = [&](std::vector<double>& v) {
+        std::vector<double> rows(pixels, 0.0);
+        for (int y = 0; y < height_; ++y)
+            for (int x = 0; x < width_; ++x) {
+                double sum = 0.0;
+                for (int d = std::max(0, x - half_window); d <= std::min(width_ - 1, x + half_window); ++d)
+                    sum += v[static_cast<std::size_t>(y) * width_ + d];
+                rows[static_cast<std::size_t>(y) * width_ + x] = sum;
+            }
+        for (int y = 0; y < height_; ++y)
+            for (int x = 0; x < width_; ++x) {
+                double sum = 0.0;
+                for (int d = std::max(0, y - half_window); d <= std::min(height_ - 1, y + half_window); ++d)
+                    sum += rows[static_cast<std::size_t>(d) * width_ + x];
+                v[static_cast<std::size_t>(y) * width_ + x] = sum;
+            }
+    };
+    box(noise);
+    box(blur2);
+    for (std::size_t i = 0; i < pixels; ++i) {
+        if (!lit[i]) continue;
+        // No measurable blur: as large as the step allows.
+        double step = max_step;
+        if (blur2[i] > 0.0)
+            step = std::clamp(std::cbrt(std::max(0.0, noise[i]) / (2.0 * blur2[i])), 1.0 / max_step, max_step);
+        factors[i] = static_cast<float>(std::clamp(static_cast<double>(factors[i]) * step, min_factor, max_factor));
+    }
+}
+
 }  // namespace caustica

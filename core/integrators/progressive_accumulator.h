@@ -81,6 +81,15 @@ public:
     /// The estimate of the remaining error (see ErrorEstimate). O(pixels).
     ErrorEstimate estimate_error() const;
 
+    /// Updates each pixel's radius factor (the multiplier of r^2 its passes to come gather with;
+    /// `factors` holds one per pixel, 1 to start) so that noise and blur come into the balance of
+    /// least squared error, from the passes since the last update: `previous` holds the sums then
+    /// (snapshot_slots per pixel; empty at the first) and is brought up to now. docs/CAUSTICS.md,
+    /// "A radius per pixel". Deterministic: the same sums give the same factors. O(pixels).
+    void adapt_radius_factors(std::vector<float>& factors, std::vector<std::int64_t>& previous) const;
+    /// int64 per pixel that adapt_radius_factors keeps between updates.
+    static constexpr std::size_t snapshot_slots = 7;
+
     /// Bytes held: fixed by the image size.
     std::size_t memory_bytes() const {
         return sums_.capacity() * sizeof(std::int64_t);

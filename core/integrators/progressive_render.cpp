@@ -22,6 +22,10 @@ namespace {
 /// 720 on default.lua, trade --pass-time).
 constexpr double grid_cell_factor = 3.0;
 
+/// The pass before which the pixels' radii are first adapted: two in each replicate group, so
+/// that each pixel's noise and blur have been measured (docs/CAUSTICS.md, "A radius per pixel").
+constexpr int first_adaptation = 2 * replicate_groups;
+
 double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -65,7 +69,8 @@ inline void check_pixel([[maybe_unused]] const glm::vec3& c, [[maybe_unused]] in
 }  // namespace
 
 void render_accumulation_tile(const ProgressiveIntegrator& integrator, const TileContext& context, const Tile& tile,
-                              int pass, ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters) {
+                              int pass, const float* radius_factors, ProgressiveAccumulator& accumulator, Image& out,
+                              RayCounters& counters) {
     // The probes are read from zero around each ray (then added back), so that what a pixel gets
     // does not depend on what else the thread's counters summed: the same bits for any thread count.
     const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
@@ -80,10 +85,12 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
         for (int x = tile.x0; x < tile.x1; x += 8) {
             Ray rays[8];
             int valid[8];
+            float scales[8];
             RandomStream streams[8] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}};
             for (int i = 0; i < 8; ++i) {
                 valid[i] = x + i < tile.x1;
                 const std::size_t index = static_cast<std::size_t>(y) * out.width + x + i;
+                scales[i] = radius_factors && valid[i] ? std::sqrt(radius_factors[index]) : 1.0f;
                 RandomStream start(context.seed, index, 12 + static_cast<std::uint64_t>(group));
                 double jx = start.uniform() + step_x * step, jy = start.uniform() + step_y * step;
                 jx -= std::floor(jx);
@@ -95,7 +102,8 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
             }
             glm::vec3 colour[8];
             double photon[8], inner[8];
-            integrator.trace_samples8(rays, valid, streams, colour, photon, inner, counters);
+            integrator.trace_samples8(rays, valid, streams, radius_factors ? scales : nullptr, colour, photon, inner,
+                                      counters);
             for (int i = 0; i < 8 && valid[i]; ++i) {
                 PassSample sample;
                 sample.colour = colour[i];
@@ -114,9 +122,9 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
     counters.photon_value_inner = inner_before + inner_total;
 }
 
-ErrorEstimate ProgressiveRender::combined_error(Cluster& cluster, const std::atomic<bool>& cancel) {
-    // Every rank's sums added on rank 0 (a copy: the accumulation goes on), its estimate sent back.
-    // The copy is made before the checkpoint: nothing may fail between it and the reduction.
+ProgressiveAccumulator ProgressiveRender::summed_on_rank0(Cluster& cluster, const std::atomic<bool>& cancel) const {
+    // A copy (the accumulation goes on), made before the checkpoint: nothing may fail between it
+    // and the reduction.
     ProgressiveAccumulator all;
     std::exception_ptr error;
     try {
@@ -127,6 +135,12 @@ ErrorEstimate ProgressiveRender::combined_error(Cluster& cluster, const std::ato
     }
     cluster.checkpoint(error, &cancel);
     cluster.reduce_sum(all.sums());
+    return all;
+}
+
+ErrorEstimate ProgressiveRender::combined_error(Cluster& cluster, const std::atomic<bool>& cancel) {
+    // Every rank's sums added on rank 0, its estimate sent back.
+    const ProgressiveAccumulator all = summed_on_rank0(cluster, cancel);
     ErrorEstimate e;
     if (cluster.rank() == 0) e = all.estimate_error();
     Cluster::Bytes bytes(sizeof e);
@@ -135,6 +149,27 @@ ErrorEstimate ProgressiveRender::combined_error(Cluster& cluster, const std::ato
     if (bytes.size() != sizeof e) throw std::runtime_error("the error estimate from rank 0 has the wrong size");
     std::memcpy(&e, bytes.data(), sizeof e);
     return e;
+}
+
+void ProgressiveRender::adapt_radii(Cluster* cluster, const std::atomic<bool>& cancel) {
+    if (!cluster || cluster->size() <= 1) {
+        accumulator_.adapt_radius_factors(state_.radius_factors, state_.adapted_sums);
+        return;
+    }
+    // Every rank's sums on rank 0, which sends the factors back: every rank gathers with them.
+    const ProgressiveAccumulator all = summed_on_rank0(*cluster, cancel);
+    std::vector<float>& factors = state_.radius_factors;
+    Cluster::Bytes bytes;
+    if (cluster->rank() == 0) {
+        all.adapt_radius_factors(factors, state_.adapted_sums);
+        bytes.resize(factors.size() * sizeof(float));
+        std::memcpy(bytes.data(), factors.data(), bytes.size());
+    }
+    cluster->broadcast(bytes, 0);
+    const std::size_t pixels = static_cast<std::size_t>(accumulator_.width()) * static_cast<std::size_t>(accumulator_.height());
+    if (bytes.size() != pixels * sizeof(float)) throw std::runtime_error("the radius factors from rank 0 have the wrong size");
+    factors.resize(pixels);
+    std::memcpy(factors.data(), bytes.data(), bytes.size());
 }
 
 void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const TileContext& context) {
@@ -160,6 +195,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         acc = State{};
         acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
         acc.seed = context.seed;
+        if (options.adaptive_radius) acc.next_adaptation = first_adaptation;
     }
     const int limit = options.pass_limit();  // 0 = none
     const double segment_start = now_seconds(), seconds_before = acc.seconds;
@@ -234,8 +270,16 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             stopped_by = "time";
             break;
         }
+        // The radius factors change between passes every rank has finished: before pass 8, 32,
+        // 128, ... (a round with ranks ends there), from the sums of all the passes before.
+        if (has_photons && acc.next_adaptation > 0 && base == acc.next_adaptation) {
+            adapt_radii(shared ? cluster : nullptr, cancel);
+            acc.next_adaptation = acc.next_adaptation < max_accumulated_passes / 4 ? 4 * acc.next_adaptation : 0;
+        }
+        int round_end = base + ranks;
+        if (acc.next_adaptation > base) round_end = std::min(round_end, acc.next_adaptation);
         const int p = base + rank;
-        const bool mine = limit == 0 || p < limit;
+        const bool mine = (limit == 0 || p < limit) && p < round_end;
         const double t0 = now_seconds();
         std::unique_ptr<CausticStage> fresh;
         long long round_photons = 0;
@@ -270,6 +314,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 grid_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_grid).count();
                 round_photons = photon_directions(fresh ? *fresh : *first_stage);
             }
+            const float* const factors = acc.radius_factors.empty() ? nullptr : acc.radius_factors.data();
             const ProgressiveIntegrator pass_integrator(pass_setup);
             TileContext pass_context = context;
             pass_context.integrator = &pass_integrator;
@@ -282,7 +327,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             }
             if (!(shared && cancel))
                 host.run_tiles("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
-                    render_accumulation_tile(pass_integrator, pass_context, tile, p, accumulator_, image, c);
+                    render_accumulation_tile(pass_integrator, pass_context, tile, p, factors, accumulator_, image, c);
                 });
         }
         double round_seconds = now_seconds() - t0;
@@ -293,7 +338,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         }
         // Pass p + 1 (1-based) has been averaged, wholly or (cancelled) in part: its pixels keep
         // their sample, the next pass is new.
-        acc.next_pass = limit > 0 ? std::min(limit, base + ranks) : base + ranks;
+        acc.next_pass = limit > 0 ? std::min(limit, round_end) : round_end;
         acc.photons_emitted += round_photons;
         if (!shared) {
             acc.error = accumulator_.estimate_error();
@@ -363,7 +408,8 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         a.error = acc.error.known ? acc.error.relative : -1.0;
         a.noise = acc.error.noise;
         a.bias = acc.error.bias;
-        a.bytes = accumulator_.memory_bytes();
+        a.bytes = accumulator_.memory_bytes() + acc.radius_factors.capacity() * sizeof(float) +
+                  acc.adapted_sums.capacity() * sizeof(std::int64_t);
         a.stopped_by = stopped_by;
     });
 }

@@ -9,7 +9,9 @@
 #include "core/render/render_host.h"
 #include "core/render/tile_renderer.h"
 
+#include <atomic>
 #include <cstdint>
+#include <vector>
 
 namespace caustica {
 
@@ -42,8 +44,16 @@ private:
         long long photons_emitted = 0;
         double seconds = 0.0;     // rendering time over every start and resume
         ErrorEstimate error;
+        int next_adaptation = 0;  // the pass before which the radius factors are next updated (0: never)
+        std::vector<float> radius_factors;  // per pixel, the multiplier of r^2 (empty: all 1)
+        std::vector<std::int64_t> adapted_sums;  // the sums at the last update (rank 0's, with ranks)
     };
 
+    /// Updates the radius factors from every rank's sums (a collective with ranks).
+    void adapt_radii(Cluster* cluster, const std::atomic<bool>& cancel);
+
+    /// A copy of the accumulator with every rank's sums added, on rank 0 (a collective).
+    ProgressiveAccumulator summed_on_rank0(Cluster& cluster, const std::atomic<bool>& cancel) const;
     /// The estimate from every rank's sums (a collective).
     ErrorEstimate combined_error(Cluster& cluster, const std::atomic<bool>& cancel);
 
@@ -54,8 +64,10 @@ private:
 
 /// One progressive pass (0-based `pass`) over a tile: a sample per pixel, deterministic per (pixel,
 /// pass), traced 8 pixels to a packet, added to the accumulator with its photon probes; the
-/// pixel's mean goes to `out`.
+/// pixel's mean goes to `out`. `radius_factors` (per pixel, or null: all 1) multiply the r^2 of
+/// each pixel's gathers.
 void render_accumulation_tile(const ProgressiveIntegrator& integrator, const TileContext& context, const Tile& tile,
-                              int pass, ProgressiveAccumulator& accumulator, Image& out, RayCounters& counters);
+                              int pass, const float* radius_factors, ProgressiveAccumulator& accumulator, Image& out,
+                              RayCounters& counters);
 
 }  // namespace caustica

@@ -91,7 +91,4 @@ public:
 /// the MPI one: same protocol, same results).
 std::vector<std::unique_ptr<Cluster>> make_local_cluster(int size);
 
-/// Rank k's passes of a progressive accumulation on `size` ranks: k, k + size, k + 2 size, ...
-inline bool owns_pass(int pass, int rank, int size) { return size <= 1 || pass % size == rank; }
-
 }  // namespace caustica

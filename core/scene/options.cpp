@@ -259,6 +259,10 @@ const std::vector<OptionSpec>& option_table() {
         choice<bool>("caustic-filter", "none|cone", "caustics",
                      "radiance-estimate filter: the seed's disc average, or Jensen's cone", &Options::caustic_cone_filter,
                      {{"none", false}, {"cone", true}}),
+        choice<bool>("adaptive-radius", "on|off", "caustics",
+                     "progressive: shrink or grow each pixel's gather radius after 8, 32, 128, ... passes so that "
+                     "its blur and noise balance (off: one radius sequence for every pixel)",
+                     &Options::adaptive_radius, {{"on", true}, {"off", false}}),
         choice<bool>("photon-split", "on|off", "caustics",
                      "progressive: carry the specular weight at mirrors and glass and follow both the reflected and "
                      "the refracted photon, instead of Russian roulette",

@@ -67,6 +67,7 @@ struct Options {
     double energy_fudge = 1.0;
     bool caustic_cone_filter = false;  ///< Jensen's cone filter instead of the plain disc average
     bool photon_random_emission = false;  ///< independent random photon directions instead of low-discrepancy
+    bool adaptive_radius = false;  ///< progressive: each pixel's radius balances its blur and noise
     bool photon_split = false;     ///< progressive: split photons at mirrors and glass instead of roulette
     int max_depth = 8;             ///< recursion limit for reflection/refraction
     double min_weight = 1e-3;      ///< stop a ray path when its weight falls below this
