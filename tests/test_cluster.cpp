@@ -9,6 +9,7 @@
 #include "core/render/cluster.h"
 #include "core/render/render_session.h"
 #include "core/scene/source_location.h"
+#include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>
 
@@ -337,7 +338,7 @@ TEST(Cluster, InterruptingOneRankInterruptsEveryRank) {
             EXPECT_FALSE(o.failure) << o.failure->message;  // an interruption is not an error
             EXPECT_TRUE(o.other_error.empty()) << o.other_error;
         }
-        EXPECT_LT(seconds, 30.0);
+        EXPECT_LT(seconds, caustica::testing::time_bound(30.0));
     }
 }
 

@@ -6,6 +6,7 @@
 #include "core/scene/source_location.h"
 #include "core/util/sanitized.h"
 #include "temp_folder.h"
+#include "tests/time_bounds.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -333,7 +334,7 @@ std::string fast_error(const std::string& path, Read read) {
         message = e.what();
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    EXPECT_LT(seconds, 0.5) << path;
+    EXPECT_LT(seconds, caustica::testing::time_bound(0.5)) << path;
     return message;
 }
 

@@ -3,6 +3,7 @@
 // animation, stop together with the failing rank's message, and stop together on Ctrl-C with
 // nothing written. Skipped, saying why, where caustica was built without MPI.
 #include "run_command.h"
+#include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>
 
@@ -204,7 +205,7 @@ TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
     EXPECT_FALSE(run.ended_with_success()) << output;
     EXPECT_FALSE(exists("ctrl-c.pfm")) << output;
     EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
-    EXPECT_LT(seconds, 10.0) << output;
+    EXPECT_LT(seconds, caustica::testing::time_bound(10.0)) << output;
     // No rank is left running.
     const CommandResult left = run_shell("pgrep -f 'render.*ctrl-c[.]pfm' || true");
     EXPECT_TRUE(left.output.empty()) << left.output;

@@ -4,6 +4,7 @@
 // temporary; temporaries of killed runs are removed by the next write, and only those.
 #include "core/io/png_io.h"
 #include "core/util/sanitized.h"
+#include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -33,8 +34,8 @@ namespace {
 
 constexpr bool sanitized = caustica::sanitized_build;
 
-/// Sanitized builds run slower and carry shadow memory: bounds widen for them, never otherwise.
-constexpr double time_factor = sanitized ? 3.0 : 1.0;
+/// Sanitized builds carry shadow memory: memory bounds widen for them, never otherwise (time
+/// bounds: time_bounds.h).
 constexpr long kib_bound(long mib) { return (sanitized ? 2 * mib + 64 : mib) * 1024; }
 
 using Bytes = std::string;  // PNG bytes built by hand
@@ -202,7 +203,7 @@ void expect_refused_cheaply(const Bytes& png, const std::string& fragment, long 
     EXPECT_EQ(o.kind, Outcome::refused) << describe(o);
     EXPECT_NE(o.message.find("tex.png: " + fragment), std::string::npos) << describe(o);
     EXPECT_LT(o.peak_kib, kib_bound(max_mib)) << describe(o);
-    EXPECT_LT(o.seconds, 2.0 * time_factor) << describe(o);
+    EXPECT_LT(o.seconds, caustica::testing::time_bound(2.0)) << describe(o);
 }
 
 }  // namespace
@@ -293,7 +294,7 @@ TEST(PngReadHardening, ManyChunksAreBoundedByTheChunkCache) {
     const Outcome o = run_bounded([&] { return caustica::read_png_memory(as_span(png), "t.png", {}); });
     EXPECT_EQ(o.kind, Outcome::decoded) << describe(o);
     EXPECT_LT(o.peak_kib, kib_bound(32)) << describe(o);
-    EXPECT_LT(o.seconds, 2.0 * time_factor) << describe(o);
+    EXPECT_LT(o.seconds, caustica::testing::time_bound(2.0)) << describe(o);
     EXPECT_LE(caustica::read_png_memory(as_span(png), "t.png").text.size(), 1000u);
 }
 
@@ -374,7 +375,7 @@ TEST(PngReadHardening, ReadPngReadsOnlyRegularFilesOfBoundedSize) {
     } catch (const std::runtime_error& e) {
         EXPECT_EQ(std::string(e.what()), "cannot open '" + fifo + "': not a regular file");
     }
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0 * time_factor);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), caustica::testing::time_bound(1.0));
     EXPECT_THROW(caustica::read_png(dir.string()), std::runtime_error);
 
     const std::string file = (dir / "a.png").string();
@@ -485,7 +486,7 @@ TEST_F(PngWrite, CancellingDuringTheWriteStopsAtOnceAndRemovesTheTemporary) {
     const auto stopped_at = std::chrono::steady_clock::now();
     canceller.join();
     ASSERT_TRUE(threw) << "the write finished before the cancel (temporary seen: '" << seen << "')";
-    EXPECT_LT(std::chrono::duration<double>(stopped_at - cancelled_at).count(), 0.25 * time_factor);
+    EXPECT_LT(std::chrono::duration<double>(stopped_at - cancelled_at).count(), caustica::testing::time_bound(0.25));
     EXPECT_TRUE(files().empty());
     // Hidden, named after the output, this host and this process.
     EXPECT_EQ(seen.rfind(".out.png.caustica-tmp-", 0), 0u) << seen;

@@ -2,8 +2,10 @@
 // changes while rendering, no stale tile ever shown, no growth in memory, and picking from another
 // thread. Small and GL-free, so that CI also runs it under ThreadSanitizer (session_tests).
 #include "ui/preview_driver.h"
+#include "core/util/sanitized.h"
 
 #include "tests/test_support.h"
+#include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -21,7 +23,6 @@
 #include <unistd.h>
 
 #if defined(__SANITIZE_THREAD__)
-constexpr double slowdown = 10.0;  // ThreadSanitizer runs instrumented code 5-15x slower
 constexpr int work_divisor = 4;    // so the stage tests use smaller images and fewer photons
 // ThreadSanitizer cannot see oneTBB's task hand-offs (the Debian libtbb is not instrumented) and
 // reports every parallel_for as a race. Under it, each TBB arena runs on the thread that enters
@@ -29,7 +30,6 @@ constexpr int work_divisor = 4;    // so the stage tests use smaller images and 
 // thread (and a picking thread), and that is what these tests check.
 static const tbb::global_control one_thread_per_arena(tbb::global_control::max_allowed_parallelism, 1);
 #else
-constexpr double slowdown = 1.0;
 constexpr int work_divisor = 1;
 #endif
 
@@ -141,7 +141,7 @@ TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
     session.set_progressive(true, stage == "preview" ? 1 : preview_block);
     session.set_job(job);
     session.start();
-    ASSERT_TRUE(wait_for_stage(session, stage, 60.0 * slowdown)) << "never saw the stage '" << stage << "'";
+    ASSERT_TRUE(wait_for_stage(session, stage, caustica::testing::time_bound(60.0))) << "never saw the stage '" << stage << "'";
     const auto t0 = clock_type::now();
     session.cancel();
     const double cancel_seconds = seconds_since(t0);
@@ -149,8 +149,8 @@ TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
     const double stop_seconds = seconds_since(t0);
     std::printf("[ cancel  ] %-18s cancel() %.3f ms, worker stopped after %.1f ms\n", c.stage, 1e3 * cancel_seconds,
                 1e3 * stop_seconds);
-    EXPECT_LT(cancel_seconds, 0.001 * slowdown);
-    EXPECT_LT(stop_seconds, c.stop_seconds * slowdown);
+    EXPECT_LT(cancel_seconds, caustica::testing::time_bound(0.001));
+    EXPECT_LT(stop_seconds, caustica::testing::time_bound(c.stop_seconds));
     EXPECT_FALSE(session.wait());
     EXPECT_TRUE(session.progress().cancelled);
 
@@ -242,7 +242,7 @@ TEST(PreviewDriver, HundredsOfChangesWhileRenderingShowNoStaleTile) {
         if (HasFatalFailure()) return;
     }
     const auto t0 = clock_type::now();
-    while (!driver.finished() && seconds_since(t0) < 60.0 * slowdown) {
+    while (!driver.finished() && seconds_since(t0) < caustica::testing::time_bound(60.0)) {
         driver.update();
         check_tiles();
         if (HasFatalFailure()) return;
@@ -258,7 +258,7 @@ TEST(PreviewDriver, HundredsOfChangesWhileRenderingShowNoStaleTile) {
     EXPECT_EQ(driver.image().pixels, reference.image().pixels);
     std::printf("[ restarts] %llu renders started, longest restart %.2f ms, %zu tiles checked\n",
                 static_cast<unsigned long long>(driver.restarts()), 1e3 * driver.longest_restart_seconds(), tiles_checked);
-    EXPECT_LT(driver.longest_restart_seconds(), 0.016 * slowdown);
+    EXPECT_LT(driver.longest_restart_seconds(), caustica::testing::time_bound(0.016));
     EXPECT_FALSE(driver.take_error().has_value());
 }
 
@@ -288,7 +288,7 @@ TEST(PreviewDriver, MemoryStaysFlatOverManyRestarts) {
     const double growth = resident_bytes() - before;
     std::printf("[ memory  ] resident growth over 300 restarts: %.1f MiB\n", growth / 1048576.0);
     // One leaked image or photon map per restart would be > 100 MiB here.
-    EXPECT_LT(growth, 24.0 * 1048576.0 * (slowdown > 1.0 ? 4.0 : 1.0));
+    EXPECT_LT(growth, 24.0 * 1048576.0 * (caustica::sanitized_build ? 4.0 : 1.0));
 }
 
 TEST(PreviewDriver, PickFromAnotherThreadWhileScenesAreRebuilt) {
@@ -331,10 +331,10 @@ TEST(PreviewDriver, DestroyingTheDriverWhileRenderingReturnsPromptly) {
     auto driver = std::make_unique<PreviewDriver>();
     driver->request(b.build());
     driver->update();
-    ASSERT_TRUE(wait_for_stage(driver->session(), "first samples", 30.0 * slowdown));
+    ASSERT_TRUE(wait_for_stage(driver->session(), "first samples", caustica::testing::time_bound(30.0)));
     const auto t0 = clock_type::now();
     driver.reset();
-    EXPECT_LT(seconds_since(t0), 0.05 * slowdown);
+    EXPECT_LT(seconds_since(t0), caustica::testing::time_bound(0.05));
 }
 
 /// Updates the driver (about every millisecond) until `done` or `seconds` pass; returns `done()`.
@@ -356,12 +356,12 @@ TEST(PreviewDriver, AccumulationPausesResumesAndTakesNewStopRulesWithoutStarting
     PreviewDriver driver;
     driver.request(b.build());
     const SessionProgress& a = driver.accumulation();
-    ASSERT_TRUE(update_until(driver, [&] { return a.passes_done >= 4; }, 20.0 * slowdown));
+    ASSERT_TRUE(update_until(driver, [&] { return a.passes_done >= 4; }, caustica::testing::time_bound(20.0)));
     EXPECT_TRUE(driver.first_full_pass_done() && driver.maps_final() && driver.busy());
     EXPECT_FALSE(driver.finished());
 
     driver.pause();
-    ASSERT_TRUE(update_until(driver, [&] { return !driver.busy(); }, 5.0 * slowdown));
+    ASSERT_TRUE(update_until(driver, [&] { return !driver.busy(); }, caustica::testing::time_bound(5.0)));
     EXPECT_TRUE(driver.paused());
     const int paused_at = a.passes_done;
     const std::vector<glm::vec3> shown = driver.image().pixels;
@@ -374,17 +374,17 @@ TEST(PreviewDriver, AccumulationPausesResumesAndTakesNewStopRulesWithoutStarting
     ASSERT_TRUE(update_until(driver, [&] {
         lowest = std::min(lowest, a.passes_done);
         return a.passes_done >= paused_at + 2;
-    }, 20.0 * slowdown));
+    }, caustica::testing::time_bound(20.0)));
     EXPECT_EQ(lowest, paused_at);
 
     // A pass limit below what is done stops at once; a higher one continues to it.
     driver.set_stop_rules({a.passes_done, 0.0, 0.0});
-    ASSERT_TRUE(update_until(driver, [&] { return driver.finished(); }, 5.0 * slowdown));
+    ASSERT_TRUE(update_until(driver, [&] { return driver.finished(); }, caustica::testing::time_bound(5.0)));
     const int stopped_at = a.passes_done;
     EXPECT_EQ(a.stopped_by, "passes");
     driver.set_stop_rules({stopped_at + 2, 0.0, 0.0});
     ASSERT_TRUE(update_until(driver, [&] { return driver.finished() && a.passes_done == stopped_at + 2; },
-                             20.0 * slowdown));
+                             caustica::testing::time_bound(20.0)));
     EXPECT_EQ(driver.job().options.passes, stopped_at + 2);
     EXPECT_EQ(driver.restarts(), 1u);  // one render started; the rest resumed it
     const RenderSession::StageCounters counters = driver.session().stage_counters();
@@ -401,13 +401,13 @@ TEST(PreviewDriver, ARequestWhilePausedIsRenderedAndEndsThePause) {
     RenderJob job = b.build();
     PreviewDriver driver;
     driver.request(job);
-    ASSERT_TRUE(update_until(driver, [&] { return driver.accumulation().passes_done >= 2; }, 20.0 * slowdown));
+    ASSERT_TRUE(update_until(driver, [&] { return driver.accumulation().passes_done >= 2; }, caustica::testing::time_bound(20.0)));
     driver.pause();
-    ASSERT_TRUE(update_until(driver, [&] { return !driver.busy(); }, 5.0 * slowdown));
+    ASSERT_TRUE(update_until(driver, [&] { return !driver.busy(); }, caustica::testing::time_bound(5.0)));
     job.camera.eye.x += 0.1;
     driver.request(job);
     ASSERT_TRUE(update_until(driver, [&] { return driver.restarts() == 2 && driver.accumulation().passes_done >= 1; },
-                             20.0 * slowdown));
+                             caustica::testing::time_bound(20.0)));
     EXPECT_FALSE(driver.paused());
     EXPECT_EQ(driver.job().camera.eye.x, job.camera.eye.x);
     EXPECT_EQ(driver.session().stage_counters().photon_passes, 1);  // the camera keeps the photons
@@ -424,7 +424,7 @@ TEST(PreviewDriver, ARenderErrorIsReportedOnceAndTheDriverGoesOn) {
     driver.request(b.build());
     std::optional<std::string> error;
     const auto t0 = clock_type::now();
-    while (!error && seconds_since(t0) < 10.0 * slowdown) {
+    while (!error && seconds_since(t0) < caustica::testing::time_bound(10.0)) {
         driver.update();
         error = driver.take_error();
     }
@@ -433,7 +433,7 @@ TEST(PreviewDriver, ARenderErrorIsReportedOnceAndTheDriverGoesOn) {
     EXPECT_FALSE(driver.take_error().has_value());
     b.scene->materials[2].kd = {0.0, 0.0, 0.0};
     driver.request(b.build());
-    while (!driver.finished() && seconds_since(t0) < 20.0 * slowdown) driver.update();
+    while (!driver.finished() && seconds_since(t0) < caustica::testing::time_bound(20.0)) driver.update();
     EXPECT_TRUE(driver.finished());
 }
 
