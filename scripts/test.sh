@@ -4,12 +4,24 @@
 # the same suite again under AddressSanitizer + UndefinedBehaviorSanitizer with leak detection,
 # the preview's session tests under ThreadSanitizer, and short runs of the benchmarks so that they
 # never rot (their timings are not asserted). Tests that need ../shared (the course scenes) skip
-# when it is absent. See docs/RELIABILITY.md for the sanitizer settings and for fuzzing.
+# when it is absent, and a stage runs them so; any skip tests/expected_skips does not explain
+# fails its stage (scripts/check-skips.sh). See docs/RELIABILITY.md for the sanitizer settings
+# and for fuzzing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
-ctest --test-dir build --output-on-failure -j2
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+ctest --test-dir build --output-on-failure -j2 | tee "$log"
+scripts/check-skips.sh release "$log"
+
+echo "== the tests that read ../shared, as a clone without it runs them"
+CAUSTICA_CS488_DIR=/nonexistent/cs488 ctest --test-dir build --output-on-failure -j2 \
+    -R 'Cs488/|CourseScenes\.|SceneLoader\.(EveryCourseSceneLoads|HierarchyTransformsAndInstancing)|MeshObj\.TheCourseCowLoads|Wysiwyg\.|ReadmeRecipes' \
+    | tee "$log"
+grep -q 'Cs488/CourseScene.*(Skipped)' "$log"  # the course scenes were indeed missing
+scripts/check-skips.sh no-shared "$log"
 
 echo "== suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 # Exported, so that the programs the tests start (caustica, caustica-view...) run with the same
@@ -28,7 +40,8 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_
       -DCAUSTICA_SANITIZE=address,undefined \
       -DCAUSTICA_BUILD_BENCH=OFF >/dev/null
 cmake --build build-asan -j2
-ctest --test-dir build-asan --output-on-failure -j2
+ctest --test-dir build-asan --output-on-failure -j2 | tee "$log"
+scripts/check-skips.sh asan "$log"
 unset ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS
 
 echo "== session tests under ThreadSanitizer"
@@ -38,8 +51,41 @@ cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_
 cmake --build build-tsan -j2 --target session_tests
 TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/ui/session_tests
 
-echo "== benchmark smoke runs"
-build/bench_render --benchmark_min_time=0.01 --benchmark_filter='nonhier' >/dev/null
-build/bench_preview --changes 3 --frames 30 >/dev/null
-build/trade --quick --out "$(mktemp -d)" | tail -1   # speed against accuracy (docs/ACCURACY.md)
-echo "benchmarks ran"
+echo "== every benchmark and tool, once (timings not asserted)"
+# Each prints its last lines; a benchmark that skips says so, and fails the stage when what it
+# needs is there (bench_render's course scenes).
+out=$(mktemp -d)
+smoke() {
+    local name=$1 output
+    shift
+    if ! output=$("$@" 2>&1); then
+        echo "$output" | tail -20
+        echo "$name failed"
+        return 1
+    fi
+    echo "$output" | tail -2
+    if grep -qi "skipped:" <<<"$output"; then
+        if [ "$name" = bench_render ] && [ ! -d ../shared/cs488 ]; then
+            echo "$name: skipped as expected (no ../shared/cs488 beside this clone)"
+        else
+            echo "$name: UNEXPECTED SKIP"
+            return 1
+        fi
+    fi
+}
+smoke bench_render build/bench_render --benchmark_min_time=0.01 --benchmark_filter='nonhier'
+smoke bench_csg build/bench_csg --benchmark_min_time=0.001
+smoke bench_loader build/bench_loader --benchmark_min_time=0.001
+smoke bench_photons build/bench_photons --benchmark_min_time=0.001
+smoke bench_photon_grid build/bench_photon_grid --benchmark_min_time=0.001
+smoke bench_photon_knn build/bench_photon_knn --benchmark_min_time=0.001 --benchmark_filter='photons:1M'
+smoke bench_preview build/bench_preview --changes 3 --frames 30
+smoke caustic_error build/caustic_error --quick
+smoke trade build/trade --quick --out "$out/trade"   # speed against accuracy (docs/ACCURACY.md)
+smoke image_diff build/image_diff "$out/trade/trade-default.png" "$out/trade/trade-default.png"
+smoke side_by_side build/side_by_side "$out/pair.png" "$out/trade/trade-default.png" "$out/trade/trade-glass_of_liquid.png"
+smoke scaling bench/scaling.sh --quick   # mpirun against threads (docs/SCALING.md)
+smoke peers env OUT="$out/peers" CYCLES=0 bench/peers/run.sh --quick   # against POV-Ray (docs/PEERS.md)
+smoke peers-progressive env OUT="$out/peers-progressive" CYCLES=0 bench/peers/run.sh --progressive --quick
+rm -rf "$out"
+echo "benchmarks and tools ran"

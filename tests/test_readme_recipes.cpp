@@ -2,6 +2,7 @@
 // change without its test), made small: every render at --minres with fewer photons, long
 // stopping rules shortened (--time 60 to 2 s, --target-error 0.05 to 0.3, 120 orbit frames to 3).
 // Each must exit 0, write what it names, and stop by the rule it was given.
+#include "course_scenes.h"
 #include "run_command.h"
 
 #include <gtest/gtest.h>
@@ -70,7 +71,9 @@ Recipe small(const std::string& written) {
     c = replace(c, R"(--time 60)", "--time 2");
     c = replace(c, R"(--target-error 0\.05)", "--target-error 0.3");
     c = replace(c, R"(--orbit-frames 120)", "--orbit-frames 3");
-    c = replace(c, R"(\.\./shared/)", source_dir + "/../shared/");
+    const std::string course_scenes = caustica::testing::cs488_dir() + "/", shared = source_dir + "/../shared/";
+    c = replace(c, R"(( )\.\./shared/cs488/)", "$1" + course_scenes);
+    c = replace(c, R"(( )\.\./shared/)", "$1" + shared);
     c = replace(c, R"( scenes/)", " " + source_dir + "/scenes/");
     const bool render = c.find(" render ") != std::string::npos;
     const bool photons_given = c.find("--caustic-num-photons") != std::string::npos;
@@ -102,7 +105,7 @@ TEST(ReadmeRecipesList, TheUsageBlockHasTheRecipesThisFileRuns) {
 
 TEST_P(ReadmeRecipes, RunsAsWrittenAndStopsByItsRule) {
     const Recipe recipe = small(GetParam());
-    if (recipe.written.find("../shared/") != std::string::npos && !fs::exists(source_dir + "/../shared/cs488"))
+    if (recipe.written.find("../shared/") != std::string::npos && !caustica::testing::have_cs488())
         GTEST_SKIP() << "../shared is not beside this clone: " << recipe.written;
     if (recipe.written.rfind("mpirun", 0) == 0 && std::string(CAUSTICA_MPIRUN).empty())
         GTEST_SKIP() << "caustica was built without MPI (Open MPI is optional): " << recipe.written;

@@ -11,6 +11,7 @@
 #include "core/lua/scene_loader.h"
 #include "core/photons/photon_tracer.h"
 #include "core/scene/source_location.h"
+#include "tests/course_scenes.h"
 #include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>
@@ -78,42 +79,40 @@ bool loaded(ViewModel& model, const std::string& path) {
     return run_until(model, [&] { return !model.loading() && model.has_scene() && model.scene_path() == path; }, 30.0);
 }
 
+/// The preview opens `scene` with `tokens` on its command line: its job is what `caustica
+/// render` makes of the same (one difference of the preview's own, listed with a reset: a
+/// progressive render without a stopping rule refines until paused where `render` stops after
+/// one pass).
+void expect_preview_job_is_render_job(const std::string& scene, const std::vector<std::string>& tokens) {
+    SCOPED_TRACE(scene);
+    ViewModel model(config_with(tokens));
+    model.open(scene);
+    ASSERT_TRUE(loaded(model, scene)) << model.error();
+    const Options render = render_options(scene, tokens);
+    Options shown = shown_options(model);
+    const std::vector<Difference> differences = model.differences();
+    if (render.integrator == IntegratorKind::progressive && !render.accumulates()) {
+        ASSERT_EQ(differences.size(), 1u);
+        EXPECT_EQ(differences[0].id, "stop");
+        EXPECT_EQ(shown.passes, 0);
+        shown.passes = render.passes;
+        shown.passes_given = render.passes_given;
+    } else {
+        EXPECT_TRUE(differences.empty()) << differences[0].label;
+    }
+    EXPECT_EQ(options_text(shown), options_text(render));
+    EXPECT_EQ(model.scene_tokens(), tokens);
+}
+
 TEST(Wysiwyg, PreviewJobIsTheRenderCommandsJob) {
     TempFolder folder;
     const std::string box = folder.write("box.lua", tiny_box(20000, "gr.option('--aa-grid 2 --integrator progressive')\n"));
-    struct Case {
-        std::string scene;
-        std::vector<std::string> tokens;
-    };
-    const std::vector<Case> cases = {
-        {box, {}},  // no preset of the preview's own: the scene's 20000 photons, N 5, aa-grid 2
-        {box, {"--quality", "draft", "--caustic-num-neighbours", "9", "--passes", "2", "--threads", "1"}},
-        {box, {"--integrator", "classic", "--caustic-max-dist", "0.0123456789", "--minres"}},
-        {source_dir + "/scenes/textures.lua", {"--minres", "--threads", "1"}},
-        {source_dir + "/../shared/cs488/simple.lua", {"--a4", "--minres", "--caustic-num-photons", "1000"}},
-    };
-    for (const Case& c : cases) {
-        SCOPED_TRACE(c.scene);
-        ViewModel model(config_with(c.tokens));
-        model.open(c.scene);
-        ASSERT_TRUE(loaded(model, c.scene)) << model.error();
-        const Options render = render_options(c.scene, c.tokens);
-        Options shown = shown_options(model);
-        // The one difference of the preview's own, listed with a reset: a progressive render
-        // without a stopping rule refines until paused where `render` stops after one pass.
-        const std::vector<Difference> differences = model.differences();
-        if (render.integrator == IntegratorKind::progressive && !render.accumulates()) {
-            ASSERT_EQ(differences.size(), 1u);
-            EXPECT_EQ(differences[0].id, "stop");
-            EXPECT_EQ(shown.passes, 0);
-            shown.passes = render.passes;
-            shown.passes_given = render.passes_given;
-        } else {
-            EXPECT_TRUE(differences.empty()) << differences[0].label;
-        }
-        EXPECT_EQ(options_text(shown), options_text(render));
-        EXPECT_EQ(model.scene_tokens(), c.tokens);
-    }
+    // No preset of the preview's own: the scene's 20000 photons, N 5, aa-grid 2.
+    expect_preview_job_is_render_job(box, {});
+    expect_preview_job_is_render_job(box, {"--quality", "draft", "--caustic-num-neighbours", "9", "--passes", "2",
+                                           "--threads", "1"});
+    expect_preview_job_is_render_job(box, {"--integrator", "classic", "--caustic-max-dist", "0.0123456789", "--minres"});
+    expect_preview_job_is_render_job(source_dir + "/scenes/textures.lua", {"--minres", "--threads", "1"});
     {  // the case: textures.lua asks for no photons, and the preview shoots none either
         ViewModel model(config_with({"--minres"}));
         model.open(source_dir + "/scenes/textures.lua");
@@ -121,6 +120,12 @@ TEST(Wysiwyg, PreviewJobIsTheRenderCommandsJob) {
         EXPECT_EQ(model.current_job().options.caustic_num_photons, render_options(source_dir + "/scenes/textures.lua", {}).caustic_num_photons);
         EXPECT_EQ(model.current_job().options.caustic_num_photons, 0);
     }
+}
+
+TEST(Wysiwyg, PreviewJobIsTheRenderCommandsJobForACourseScene) {
+    CAUSTICA_SKIP_WITHOUT_CS488();
+    expect_preview_job_is_render_job(caustica::testing::cs488_file("simple.lua"),
+                                     {"--a4", "--minres", "--caustic-num-photons", "1000"});
 }
 
 TEST(Wysiwyg, CommandLineReproducesThePersonsChoicesAndEachResets) {
@@ -283,12 +288,13 @@ TEST(Wysiwyg, UndoAndRedoStepThroughKnobsPresetAndStopRulesADragIsOneStep) {
 }
 
 TEST(Wysiwyg, CourseSceneHintOnlyWhereTheCourseConventionsShowTheScene) {
+    CAUSTICA_SKIP_WITHOUT_CS488();
     LoadSettings settings;
     settings.output_given = true;
-    settings.allow_read = {source_dir + "/../shared/cs488"};
+    settings.allow_read = {caustica::testing::cs488_dir()};
     std::map<std::string, std::string> hints;
     for (const char* name : {"hier", "macho-cows", "nonhier", "simple", "simple-cows"}) {
-        const std::string path = source_dir + "/../shared/cs488/" + name + ".lua";
+        const std::string path = caustica::testing::cs488_file(std::string(name) + ".lua");
         hints[name] = course_scene_hint(load_scene_script(path, settings));
     }
     // The cows lose objects from the view without --a4 (origins counted, 23 vs 21 and 41 vs 34);
@@ -316,13 +322,15 @@ TEST(Wysiwyg, CourseSceneHintOnlyWhereTheCourseConventionsShowTheScene) {
                                           "without --a4, 8 with. Untick --a4 if it renders broken.");
     EXPECT_EQ(seed_hints["default.lua"], "");
     for (const char* name : {"hier", "macho-cows", "nonhier", "simple", "simple-cows"})
-        EXPECT_EQ(seed_scene_hint(load_scene_script(source_dir + "/../shared/cs488/" + name + ".lua", settings)), "") << name;
+        EXPECT_EQ(seed_scene_hint(load_scene_script(caustica::testing::cs488_file(std::string(name) + ".lua"), settings)), "")
+            << name;
 }
 
 TEST(Wysiwyg, TheHintShowsForACourseSceneUntilA4IsTicked) {
-    const std::string cows = source_dir + "/../shared/cs488/macho-cows.lua";
+    CAUSTICA_SKIP_WITHOUT_CS488();
+    const std::string cows = caustica::testing::cs488_file("macho-cows.lua");
     ModelConfig config = config_with({"--minres"});
-    config.allow_read = {source_dir + "/../shared/cs488"};
+    config.allow_read = {caustica::testing::cs488_dir()};
     ViewModel model(config);
     model.open(cows);
     ASSERT_TRUE(loaded(model, cows)) << model.error();
