@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <thread>
@@ -88,6 +89,20 @@ TEST_F(Cli, HelpListsTheOptions) {
     for (const char* option : {"--tonemap", "--exposure", "--exr-pixel", "OUT.exr", "OUT.pfm"})
         EXPECT_NE(r.output.find(option), std::string::npos) << option;
     EXPECT_EQ(run("--help").code, 0);
+}
+
+// The help speaks the project's own language: the classic rules by their names in
+// docs/CAUSTICS.md, never by codes of a page outside the repository or issue numbers.
+TEST_F(Cli, HelpCitesNoRuleCodesOrIssues) {
+    for (const char* command : {"--help", "render --help", "view --help"}) {
+        const Result r = run(command);
+        EXPECT_EQ(r.code, 0) << command;
+        const std::regex outside(R"(\b[AB][0-9]\b|SEED_BEHAVIOUR|Part [AB]\b|[Ii]ssue [0-9]|\.\./shared)");
+        // "CS488 A4" is the course's assignment, which --a4 is named after, not a rule code.
+        const std::string text = std::regex_replace(r.output, std::regex("CS488 A4"), "CS488");
+        std::smatch found;
+        EXPECT_FALSE(std::regex_search(text, found, outside)) << command << ": '" << found.str() << "'";
+    }
 }
 
 TEST_F(Cli, ViewRefusesAMissingSceneBeforeOpeningAWindow) {

@@ -128,7 +128,7 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     int integrator = static_cast<int>(k.integrator);
     if (ImGui::Combo("integrator", &integrator, "classic\0progressive\0"))
         k.integrator = static_cast<IntegratorKind>(integrator);
-    hint("classic: the original renderer's rules (SEED_BEHAVIOUR.md Part B); progressive: our photon mapper, "
+    hint("classic: the original renderer's rules (docs/CAUSTICS.md, rule by rule); progressive: our photon mapper, "
          "refining pass after pass until paused or a stopping rule. Switching re-shoots photons and re-renders, "
          "keeps the BVH");
     if (k.integrator == IntegratorKind::progressive && model.knobs().integrator == IntegratorKind::progressive)

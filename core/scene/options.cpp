@@ -165,7 +165,7 @@ const std::vector<OptionSpec>& option_table() {
     static const std::vector<OptionSpec> table = {
         choice<IntegratorKind>(
             "integrator", "classic|progressive", "transport",
-            "classic: the original renderer's rules (SEED_BEHAVIOUR.md Part B); progressive: our photon mapper",
+            "classic: the original renderer's rules (docs/CAUSTICS.md, rule by rule); progressive: our photon mapper",
             &Options::integrator, {{"classic", IntegratorKind::classic}, {"progressive", IntegratorKind::progressive}}),
         flag("a4", 0, "conventions", "course (CS488 A4) conventions: transforms in call order, unit cube [0,1]^3",
              &Options::a4),
@@ -206,11 +206,11 @@ const std::vector<OptionSpec>& option_table() {
         flag("disable-bv", 0, "performance", "no bounding volumes around analytic primitives: each ray tests them all (for comparison)", &Options::disable_bv),
         flag("disable-csg-bb", 0, "performance", "no bounding boxes around CSG subtrees (for comparison)",
              &Options::disable_csg_bb),
-        integer("max-depth", 0, "optics", "progressive: recursion limit for reflected and refracted rays (classic: B1's depth 15)", &Options::max_depth, 0,
+        integer("max-depth", 0, "optics", "progressive: recursion limit for reflected and refracted rays (classic: white past depth 15, its deep-ray rule)", &Options::max_depth, 0,
                 64),
-        real("min-weight", "optics", "progressive: end a ray path when its weight falls below this (classic: B1's 0.02 luma)", &Options::min_weight, 0.0, 1.0),
+        real("min-weight", "optics", "progressive: end a ray path when its weight falls below this (classic: its view-ray cut at 0.02 luma)", &Options::min_weight, 0.0, 1.0),
         flag("no-soft-shadows", 0, "lights", "treat spherical lights as points", &Options::no_soft_shadows),
-        {"shadow-grid", 0, "N", "lights", "soft shadows: N x N samples on a spherical light (turns soft shadows on, A9)",
+        {"shadow-grid", 0, "N", "lights", "soft shadows: N x N samples on a spherical light (turns soft shadows on)",
          [](Options& o, const std::string& v) {
              o.shadow_grid = static_cast<int>(parse_integer("shadow-grid", v, 1, 64));
              o.no_soft_shadows = false;
