@@ -5,6 +5,7 @@
 #include "core/shading/texture.h"
 #include "core/util/denormals.h"
 #include "core/util/radiance_range.h"
+#include "core/util/parallel.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -240,7 +241,7 @@ void shoot_light(const RenderScene& scene, const TextureSet* textures, const Lig
                  std::vector<Photon>& out, std::uint32_t* block_counts, LightPhotonReport& report) {
     std::vector<std::vector<Photon>> stored(emission_blocks);
     std::vector<long long> offered(emission_blocks, 0), traced(emission_blocks, 0);
-    tbb::parallel_for(tbb::blocked_range<int>(0, emission_blocks, 1), [&](const tbb::blocked_range<int>& range) {
+    caustica::parallel_for(tbb::blocked_range<int>(0, emission_blocks, 1), [&](const tbb::blocked_range<int>& range) {
         const ScopedFlushDenormals flush;
         for (int block = range.begin(); block != range.end(); ++block) {
             if (cancel && cancel->load(std::memory_order_relaxed)) return;
@@ -292,7 +293,7 @@ void classic_emission_cell(long long cell, glm::dvec3& a, glm::dvec3& b, glm::dv
 
 long long classic_photons_offered(long long requested) {
     if (requested <= 0) return 0;
-    return tbb::parallel_reduce(
+    return caustica::parallel_reduce(
         tbb::blocked_range<int>(0, emission_blocks, 1), 0LL,
         [&](const tbb::blocked_range<int>& range, long long sum) {
             auto visit = [&](long long cell, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
@@ -475,7 +476,7 @@ std::vector<Photon> merge_map(const std::vector<ClassicPhotonShare>& shares, boo
         if (cursor[r] > (caustic ? shares[r].caustic_count : shares[r].gi_count))
             throw std::runtime_error("merging photon shares: a share holds fewer photons than its block counts say");
     std::vector<Photon> merged(total);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const tbb::blocked_range<std::size_t>& range) {
+    caustica::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const ClassicPhotonShare& s = shares[(i % emission_blocks) % n];
             const std::uint32_t count = blocks_of(s)[i];

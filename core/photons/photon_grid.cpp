@@ -1,6 +1,7 @@
 #include "core/photons/photon_grid.h"
 
 #include "core/render/random.h"
+#include "core/util/parallel.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -117,7 +118,7 @@ void PhotonGrid::build(const std::vector<Photon>& photons, float cell) {
     mask_ = buckets - 1;
     // Each photon's bucket (in parallel), then a counting sort in photon order (deterministic).
     scratch_.resize(n);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+    caustica::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const glm::vec3& q = photons[i].position;
             scratch_[i] = static_cast<std::uint32_t>(bucket_of(cell_coordinate(q.x, inverse_cell_),

@@ -1,4 +1,5 @@
 #include "core/photons/photon_kdtree.h"
+#include "core/util/parallel.h"
 
 #include <algorithm>
 #include <limits>
@@ -58,7 +59,7 @@ struct PhotonKdTree::Builder {
         const std::uint32_t right = index + 1 + nodes_for_built(mid - begin);
         tree.nodes_[index] = {split, static_cast<std::uint32_t>(axis), right, 0};
         if (end - begin >= parallel_points)
-            tbb::parallel_invoke([&] { build(index + 1, begin, mid, lo, left_hi); },
+            caustica::parallel_invoke([&] { build(index + 1, begin, mid, lo, left_hi); },
                                  [&] { build(right, mid, end, right_lo, hi); });
         else {
             build(index + 1, begin, mid, lo, left_hi);

@@ -6,6 +6,7 @@
 #include "core/util/radiance_range.h"
 #include "core/render/random.h"
 #include "core/scene/source_location.h"
+#include "core/util/parallel.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -331,7 +332,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
             traced.assign(blocks, 0);
             const double step_s = 0.7548776662466927, step_t = 0.5698402909980532;  // the R2 sequence
             const double pass = static_cast<double>(settings.pass);
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            caustica::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
                 const ScopedFlushDenormals flush;
                 for (std::size_t b = r.begin(); b != r.end(); ++b) {
                     if (cancel && cancel->load(std::memory_order_relaxed)) return;
@@ -373,7 +374,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
             traced.assign(static_cast<std::size_t>(blocks), 0);
             RandomStream rotation_stream(settings.seed, 0x70686f746f6e ^ l, 7);
             const float rotate_u = rotation_stream.uniform(), rotate_v = rotation_stream.uniform();
-            tbb::parallel_for(tbb::blocked_range<long long>(0, blocks, 1), [&](const tbb::blocked_range<long long>& r) {
+            caustica::parallel_for(tbb::blocked_range<long long>(0, blocks, 1), [&](const tbb::blocked_range<long long>& r) {
                 const ScopedFlushDenormals flush;
                 for (long long b = r.begin(); b != r.end(); ++b) {
                     if (cancel && cancel->load(std::memory_order_relaxed)) return;

@@ -1,6 +1,7 @@
 #include "core/photons/projection_map.h"
 
 #include "core/util/denormals.h"
+#include "core/util/parallel.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -44,7 +45,7 @@ double ProjectionMap::cell_solid_angle(int row) const {
 void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light, bool (*target)(const Material&)) {
     std::vector<std::uint8_t> hits(cells_.size(), 0);
     const auto& materials = scene.materials();
-    tbb::parallel_for(tbb::blocked_range<int>(0, rows_), [&](const tbb::blocked_range<int>& range) {
+    caustica::parallel_for(tbb::blocked_range<int>(0, rows_), [&](const tbb::blocked_range<int>& range) {
         const ScopedFlushDenormals flush;
         for (int row = range.begin(); row != range.end(); ++row)
             for (int column = 0; column < columns_; ++column) {

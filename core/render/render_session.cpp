@@ -13,6 +13,7 @@
 #include "core/render/tile_renderer.h"
 #include "core/util/radiance_range.h"
 #include "core/geometry/shapes.h"
+#include "core/util/parallel.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -442,7 +443,7 @@ struct RenderSession::PassRunner {
         const double t0 = now_seconds();
         const std::vector<Tile>& tiles = session.tiles_;
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+            caustica::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
                               [&](const tbb::blocked_range<std::size_t>& range) {
                                   const ScopedFlushDenormals flush;
                                   for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -467,7 +468,7 @@ struct RenderSession::PassRunner {
     void run_range(int first, int last, Body&& body) {
         const std::vector<Tile>& tiles = session.tiles_;
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& range) {
+            caustica::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& range) {
                 const ScopedFlushDenormals flush;
                 for (int i = range.begin(); i != range.end(); ++i) {
                     if (session.cancel_requested_.load(std::memory_order_relaxed)) return;

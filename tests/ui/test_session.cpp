@@ -23,12 +23,13 @@
 #include <unistd.h>
 
 #if defined(__SANITIZE_THREAD__)
-constexpr int work_divisor = 4;    // so the stage tests use smaller images and fewer photons
-// ThreadSanitizer cannot see oneTBB's task hand-offs (the Debian libtbb is not instrumented) and
-// reports every parallel_for as a race. Under it, each TBB arena runs on the thread that enters
-// it: what stays concurrent is what the preview adds, the UI thread against the session's worker
-// thread (and a picking thread), and that is what these tests check.
-static const tbb::global_control one_thread_per_arena(tbb::global_control::max_allowed_parallelism, 1);
+constexpr int work_divisor = 4;  // so the stage tests use smaller images and fewer photons
+// ThreadSanitizer cannot see oneTBB's task hand-offs (the Debian libtbb is not instrumented):
+// oneTBB runs on one thread here, and so does Embree's BVH build, which uses it. The renderer's
+// own parallel loops run on threads the sanitizer sees (core/util/parallel.h), so tiles, photon
+// blocks, grid, map and k-d tree builds still run concurrently, besides the preview's UI thread,
+// the session's worker and a picking thread.
+static const tbb::global_control one_tbb_thread(tbb::global_control::max_allowed_parallelism, 1);
 #else
 constexpr int work_divisor = 1;
 #endif
