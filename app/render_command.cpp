@@ -41,7 +41,7 @@ std::atomic<bool> interrupted{false};
 /// partial stays behind.
 extern "C" void on_interrupt(int) {
     if (!interrupted.exchange(true)) return;
-    remove_png_temporaries_from_signal_handler();
+    remove_output_temporaries_from_signal_handler();
     ::_exit(exit_interrupted);
 }
 
@@ -108,7 +108,7 @@ void check_writable(const std::string& path, const RenderJob& job, bool from_com
     if (::access(dir.c_str(), W_OK) != 0)
         throw std::runtime_error(prefix + "folder '" + dir.string() + "' is not writable");
     if (const std::string problem = output_file_problem(path); !problem.empty()) throw std::runtime_error(prefix + problem);
-    if (cleaned.insert(dir.string()).second) remove_stale_png_temporaries(dir.string());
+    if (cleaned.insert(dir.string()).second) remove_stale_output_temporaries(dir.string());
 }
 
 /// "W x H" as a job will render it.

@@ -454,7 +454,7 @@ TEST_F(PngWrite, ARaisedCancelFlagWritesNothingAndKeepsTheOldFile) {
     std::ofstream(out) << "OLD";
     std::atomic<bool> cancel{true};
     EXPECT_THROW(caustica::write_png_atomic(out, noisy(64), caustica::PixelEncoding::clamped_linear, {}, &cancel),
-                 caustica::PngWriteCancelled);
+                 caustica::ImageWriteCancelled);
     EXPECT_EQ(files(), std::vector<std::string>{"out.png"});
     std::ifstream in(out);
     std::string content;
@@ -479,7 +479,7 @@ TEST_F(PngWrite, CancellingDuringTheWriteStopsAtOnceAndRemovesTheTemporary) {
     bool threw = false;
     try {
         caustica::write_png_atomic(out, image, caustica::PixelEncoding::clamped_linear, {}, &cancel);
-    } catch (const caustica::PngWriteCancelled& e) {
+    } catch (const caustica::ImageWriteCancelled& e) {
         threw = true;
         EXPECT_EQ(std::string(e.what()), "writing '" + out + "' was interrupted; nothing written");
     }
@@ -499,7 +499,7 @@ TEST_F(PngWrite, ASignalHandlerRemovesTheTemporaryOfAWriteInProgress) {
     const pid_t pid = ::fork();
     if (pid == 0) {
         std::signal(SIGINT, [](int) {
-            caustica::remove_png_temporaries_from_signal_handler();
+            caustica::remove_output_temporaries_from_signal_handler();
             ::_exit(130);
         });
         caustica::write_png_atomic(out, noisy(4000), caustica::PixelEncoding::clamped_linear);

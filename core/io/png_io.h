@@ -1,7 +1,8 @@
-// PNG files: atomic writing with metadata (cancellable, no temporary left behind), and reading
+// PNG files: writing with metadata (atomic and cancellable: core/io/atomic_file.h), and reading
 // with limits checked before libpng allocates (for textures, tests and tools).
 #pragma once
 
+#include "core/io/atomic_file.h"
 #include "core/render/image.h"
 
 #include <atomic>
@@ -28,55 +29,15 @@ enum class PixelEncoding {
 /// x255, rounded.
 unsigned char encode_channel(float value, PixelEncoding encoding);
 
-/// Thrown by write_png_atomic (and write_file_atomic, and the EXR and PFM writers built on it) when
-/// its cancel flag was raised; the temporary is already removed and nothing was written at the path.
-class ImageWriteCancelled : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-using PngWriteCancelled = ImageWriteCancelled;
-
-/// What a file body writer reports to write_file_atomic.
-enum class FileWriteOutcome { written, failed, cancelled };
-
-/// Writes a whole file's bytes to `file` (a fresh temporary); on `failed` sets `error` to the
-/// reason. It may also throw: write_file_atomic then removes the temporary and rethrows.
-using FileWriteBody = std::function<FileWriteOutcome(std::FILE* file, std::string& error)>;
-
-/// The atomic-write machinery of write_png_atomic for any format: removes stale temporaries of
-/// killed runs from the folder, creates a hidden temporary ".NAME.caustica-tmp-HOST-PID-N" beside
-/// `path` (published for remove_png_temporaries_from_signal_handler), runs `body` on it, flushes,
-/// fsyncs and renames it over `path`. A failure or `cancel` (checked again before the rename)
-/// removes the temporary: std::runtime_error "cannot write 'PATH': reason", or ImageWriteCancelled.
-void write_file_atomic(const std::string& path, const FileWriteBody& body, const std::atomic<bool>* cancel = nullptr);
-
 /// Writes an RGB PNG atomically: to a hidden temporary in the same folder
 /// (".NAME.png.caustica-tmp-HOST-PID-N"), then rename, so a failed or interrupted write never leaves
 /// a truncated image. `text` becomes tEXt chunks. `cancel`, when given, is checked before every
-/// row: once it reads true the write stops, the temporary is removed and PngWriteCancelled is
+/// row: once it reads true the write stops, the temporary is removed and ImageWriteCancelled is
 /// thrown. Temporaries left in the folder by killed runs (their process gone) are removed first.
 /// Throws std::runtime_error naming the path on failure (nothing is left behind).
 void write_png_atomic(const std::string& path, const Image& image, PixelEncoding encoding,
                       const std::vector<std::pair<std::string, std::string>>& text = {},
                       const std::atomic<bool>* cancel = nullptr);
-
-/// Checks, without writing an image, that write_png_atomic could write `path`: its folder takes
-/// a new file (a temporary is created and removed at once, which also catches a read-only file
-/// system, or a folder root may not write to), `path` is not a folder and its name is not too
-/// long. Returns "" or the reason ("No such file or directory", "it is a folder", ...).
-std::string png_output_problem(const std::string& path);
-/// The same check for any format (the name says what it is for).
-inline std::string output_file_problem(const std::string& path) { return png_output_problem(path); }
-
-/// Unlinks the temporaries of the writes in progress (PNG, EXR, PFM: every write_file_atomic). Async-signal-safe: for a signal
-/// handler that is about to end the process (a second Ctrl-C), so that no temporary survives it.
-void remove_png_temporaries_from_signal_handler() noexcept;
-
-/// Removes, from `folder`, the temporaries of write_file_atomic (any format) whose writing process no longer
-/// exists: files named ".NAME.png.caustica-tmp-HOST-PID-N" (or "-probe-", from
-/// png_output_problem) owned by this user, HOST this machine and PID not running.
-/// Returns how many were removed; errors are ignored (the folder may be unreadable).
-int remove_stale_png_temporaries(const std::string& folder);
 
 /// 8-bit RGB(A) image as read from a PNG.
 struct Png8 {
