@@ -9,6 +9,7 @@
 #include "temp_folder.h"
 
 #include <string>
+#include <vector>
 
 namespace caustica::testing {
 
@@ -32,28 +33,52 @@ inline RenderJob load_first_job(const std::string& source) {
     return job;
 }
 
-/// A glass ball (index 1.5, ks 1) focusing a point light onto a white floor, seen from above, 40 x
-/// 40, progressive and caustics only with 40 000 photons a pass: the focus (far above 1), the ring
-/// of light around it and the ball's shadow form a caustic with sharp edges.
-inline RenderJob glass_ball_focus_job() {
-    RenderJob job = load_first_job(R"(
-gr.option('--integrator progressive --draw-caustics-only --caustic-num-photons 40000')
-glass = gr.material({0, 0, 0}, {1, 1, 1}, 20)
-glass:set_ri(1.5)
-ball = gr.nh_sphere('ball', {0, 1.2, 0}, 0.5)
-ball:set_material(glass)
-floor = gr.cube('floor')
+/// `balls` (Lua making the nodes named in `names`) above a white floor, lit from 4 above and seen
+/// from 5 above at size x size pixels with a `fov` degree view; `options` is the scene's
+/// gr.option text (or none). Rays that miss are black.
+inline RenderJob balls_over_floor_job(const std::string& options, const std::string& balls,
+                                      const std::vector<std::string>& names, int size, int fov) {
+    std::string lua = options.empty() ? std::string() : "gr.option('" + options + "')\n";
+    lua += balls + R"(floor = gr.cube('floor')
 floor:translate(0, -1, 0)
 floor:scale(4, 1, 4)
 floor:set_material(gr.material({1, 1, 1}, {0, 0, 0}, 0))
 root = gr.node('root')
 root:add_child(floor)
-root:add_child(ball)
-gr.render(root, 'focus.png', 40, 40, {0, 5, 0.01}, {0, -1, 0}, {0, 0, -1}, 24, {0, 0, 0},
-          {gr.light({0.3, 4, 0.1}, {1, 1, 1}, {0, 0, 0.1})})
-)");
+)";
+    for (const std::string& name : names) lua += "root:add_child(" + name + ")\n";
+    lua += "gr.render(root, 'balls.png', " + std::to_string(size) + ", " + std::to_string(size) +
+           ", {0, 5, 0.01}, {0, -1, 0}, {0, 0, -1}, " + std::to_string(fov) +
+           ", {0, 0, 0}, {gr.light({0.3, 4, 0.1}, {1, 1, 1}, {0, 0, 0.1})})\n";
+    RenderJob job = load_first_job(lua);
     job.miss_colour = glm::dvec3(0.0);
     return job;
+}
+
+/// A glass ball (index 1.5, ks 1) focusing a point light onto a white floor, seen from above, 40 x
+/// 40, progressive and caustics only with 40 000 photons a pass: the focus (far above 1), the ring
+/// of light around it and the ball's shadow form a caustic with sharp edges.
+inline RenderJob glass_ball_focus_job() {
+    return balls_over_floor_job("--integrator progressive --draw-caustics-only --caustic-num-photons 40000", R"(
+glass = gr.material({0, 0, 0}, {1, 1, 1}, 20)
+glass:set_ri(1.5)
+ball = gr.nh_sphere('ball', {0, 1.2, 0}, 0.5)
+ball:set_material(glass)
+)", {"ball"}, 40, 24);
+}
+
+/// A glass ball (ks 0.9) and a mirror ball (ks 0.8) on a white floor, lit and seen from above at
+/// 48 x 48: caustics of both kinds. `options`, when given, is the scene's gr.option text.
+inline RenderJob glass_and_mirror_balls_job(const std::string& options = "") {
+    return balls_over_floor_job(options, R"(
+glass = gr.material({0, 0, 0}, {0.9, 0.9, 0.9}, 20)
+glass:set_ri(1.5)
+mirror = gr.material({0, 0, 0}, {0.8, 0.8, 0.8}, 20)
+ball = gr.nh_sphere('ball', {-0.8, 1.2, 0}, 0.5)
+ball:set_material(glass)
+shiny = gr.nh_sphere('shiny', {0.9, 0.6, 0}, 0.5)
+shiny:set_material(mirror)
+)", {"ball", "shiny"}, 48, 60);
 }
 
 /// A hit at object point p of an analytic shape placed with object space = world space, as

@@ -3,6 +3,7 @@
 // the sanitizers too; built into session_tests, which CI also runs under ThreadSanitizer). The image of K ranks is one process's, bit for bit, for both integrators;
 // a failure or an interruption on one rank stops every rank with that rank's message. The same
 // with real processes under mpirun: test_mpi.cpp.
+#include "accumulation_orders.h"
 #include "test_support.h"
 
 #include "core/photons/classic_photons.h"
@@ -345,7 +346,7 @@ TEST(Cluster, InterruptingOneRankInterruptsEveryRank) {
 TEST(Cluster, AccumulatorSumsAreExactWhateverTheOrderAndSplit) {
     // The property the ranks rest on: the sums of passes added in any order, or split between
     // two accumulators and added up, are the same bits; a pixel that never changes has no noise.
-    const int w = 4, h = 1, passes = 37;
+    const int w = 4, passes = 37;
     auto sample = [](int pixel, int pass) {
         PassSample s;
         const float x = 1e-7f + 0.37f * static_cast<float>((pixel * 7919 + pass * 104729) % 1000) / 997.0f;
@@ -354,18 +355,10 @@ TEST(Cluster, AccumulatorSumsAreExactWhateverTheOrderAndSplit) {
         s.photon_inner = pixel == 0 ? 0.2 : 0.9 * static_cast<double>(x);
         return s;
     };
-    ProgressiveAccumulator forward, backward, even, odd;
-    for (ProgressiveAccumulator* a : {&forward, &backward, &even, &odd}) a->reset(w, h);
-    for (int p = 0; p < passes; ++p)
-        for (int i = 0; i < w; ++i) {
-            forward.add(static_cast<std::size_t>(i), sample(i, p));
-            backward.add(static_cast<std::size_t>(i), sample(i, passes - 1 - p));
-            (p % 2 ? odd : even).add(static_cast<std::size_t>(i), sample(i, p));
-        }
-    std::vector<std::int64_t> merged = even.sums();
-    for (std::size_t k = 0; k < merged.size(); ++k) merged[k] += odd.sums()[k];
+    const caustica::testing::AccumulationOrders orders = caustica::testing::accumulate_in_three_orders(w, passes, sample);
+    const ProgressiveAccumulator &forward = orders.forward, &backward = orders.backward;
     EXPECT_EQ(forward.sums(), backward.sums());
-    EXPECT_EQ(forward.sums(), merged);
+    EXPECT_EQ(forward.sums(), orders.merged);
     for (int i = 0; i < w; ++i) {
         const glm::vec3 a = forward.mean(static_cast<std::size_t>(i)), b = backward.mean(static_cast<std::size_t>(i));
         EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0);

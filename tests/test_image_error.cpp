@@ -4,16 +4,14 @@
 #include "core/render/image_error.h"
 
 #include "run_command.h"
+#include "temp_folder.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <string>
-#include <unistd.h>
 
 using namespace caustica;
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -57,25 +55,18 @@ TEST(CausticError, FiguresOfAKnownDifference) {
 
 class CompareCommand : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("caustica_compare_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     caustica::testing::CommandResult run(const std::string& args) const {
-        return caustica::testing::run_shell("cd '" + dir_.string() + "' && '" CAUSTICA_BINARY "' compare " + args);
+        return caustica::testing::run_shell("cd '" + dir_.path().string() + "' && '" CAUSTICA_BINARY "' compare " + args);
     }
-    fs::path dir_;
+    caustica::testing::TempFolder dir_{"caustica_compare"};
 };
 
 TEST_F(CompareCommand, PrintsTheCausticErrorOfTwoFiles) {
     const Image reference = lit_reference();
     Image image = reference;
     image.pixels[0] = glm::vec3(0.7f);
-    write_pfm_atomic((dir_ / "reference.pfm").string(), reference);
-    write_pfm_atomic((dir_ / "image.pfm").string(), image);
+    write_pfm_atomic(dir_.file("reference.pfm"), reference);
+    write_pfm_atomic(dir_.file("image.pfm"), image);
     const auto r = run("image.pfm reference.pfm");
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find("caustic region       11 pixels of 100"), std::string::npos) << r.output;
@@ -85,12 +76,12 @@ TEST_F(CompareCommand, PrintsTheCausticErrorOfTwoFiles) {
 }
 
 TEST_F(CompareCommand, BadArgumentsAndFilesAreClearErrors) {
-    write_pfm_atomic((dir_ / "reference.pfm").string(), lit_reference());
-    write_pfm_atomic((dir_ / "small.pfm").string(), Image(4, 4));
-    write_pfm_atomic((dir_ / "black.pfm").string(), Image(10, 10));
+    write_pfm_atomic(dir_.file("reference.pfm"), lit_reference());
+    write_pfm_atomic(dir_.file("small.pfm"), Image(4, 4));
+    write_pfm_atomic(dir_.file("black.pfm"), Image(10, 10));
     Image broken = lit_reference();
     broken.pixels[23] = glm::vec3(0.0f, std::nanf(""), 0.0f);
-    write_pfm_atomic((dir_ / "nan.pfm").string(), broken);
+    write_pfm_atomic(dir_.file("nan.pfm"), broken);
     struct Case {
         std::string args, says;
     } cases[] = {

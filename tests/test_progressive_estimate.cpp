@@ -2,6 +2,7 @@
 // estimate") on a sharp caustic, against a long accumulation of the same scene with other seeds,
 // and the --target-error rule it drives: stopped at E, the true error is at most 1.5 E.
 // (The smooth caustic with an analytic answer: test_progressive_passes.cpp.)
+#include "accumulation_orders.h"
 #include "scene_test_helpers.h"
 #include "test_support.h"
 
@@ -99,7 +100,7 @@ TEST(ProgressiveEstimate, ATargetErrorStopsWithATrueErrorOfAtMostOneAndAHalfTime
 // The replicate groups' slots add like the rest: passes of every group added in any order, or
 // split between two accumulators and summed, give the same bits and the same estimate.
 TEST(ProgressiveEstimate, GroupSumsAreExactWhateverTheOrderAndSplit) {
-    const int w = 3, h = 1, passes = 29;
+    const int w = 3, passes = 29;
     auto sample = [](int pixel, int pass) {
         PassSample s;
         const float x = 0.05f + 0.3f * static_cast<float>((pixel * 7919 + pass * 104729) % 1000) / 997.0f;
@@ -109,19 +110,10 @@ TEST(ProgressiveEstimate, GroupSumsAreExactWhateverTheOrderAndSplit) {
         s.group = pass % replicate_groups;
         return s;
     };
-    ProgressiveAccumulator forward, backward, even, odd;
-    for (ProgressiveAccumulator* a : {&forward, &backward, &even, &odd}) a->reset(w, h);
-    for (int p = 0; p < passes; ++p)
-        for (int i = 0; i < w; ++i) {
-            forward.add(static_cast<std::size_t>(i), sample(i, p));
-            backward.add(static_cast<std::size_t>(i), sample(i, passes - 1 - p));
-            (p % 2 ? odd : even).add(static_cast<std::size_t>(i), sample(i, p));
-        }
-    std::vector<std::int64_t> merged = even.sums();
-    for (std::size_t k = 0; k < merged.size(); ++k) merged[k] += odd.sums()[k];
-    EXPECT_EQ(forward.sums(), backward.sums());
-    EXPECT_EQ(forward.sums(), merged);
-    const ErrorEstimate a = forward.estimate_error(), b = backward.estimate_error();
+    const caustica::testing::AccumulationOrders orders = caustica::testing::accumulate_in_three_orders(w, passes, sample);
+    EXPECT_EQ(orders.forward.sums(), orders.backward.sums());
+    EXPECT_EQ(orders.forward.sums(), orders.merged);
+    const ErrorEstimate a = orders.forward.estimate_error(), b = orders.backward.estimate_error();
     ASSERT_TRUE(a.known);
     EXPECT_TRUE(a.from_groups);
     EXPECT_GT(a.noise, 0.0);

@@ -370,27 +370,8 @@ namespace {
 /// The mean of a caustics-only progressive render (64 passes), unclamped: the caustic energy of a
 /// glass ball (ks 0.9) and a mirror ball (ks 0.8) on a floor, with or without photon splitting.
 double split_scene_caustic_mean(bool split) {
-    RenderJob job = caustica::testing::load_first_job(R"(
-gr.option('--integrator progressive --draw-caustics-only --caustic-num-photons 800000 --passes 64')
-glass = gr.material({0, 0, 0}, {0.9, 0.9, 0.9}, 20)
-glass:set_ri(1.5)
-mirror = gr.material({0, 0, 0}, {0.8, 0.8, 0.8}, 20)
-ball = gr.nh_sphere('ball', {-0.8, 1.2, 0}, 0.5)
-ball:set_material(glass)
-shiny = gr.nh_sphere('shiny', {0.9, 0.6, 0}, 0.5)
-shiny:set_material(mirror)
-floor = gr.cube('floor')
-floor:translate(0, -1, 0)
-floor:scale(4, 1, 4)
-floor:set_material(gr.material({1, 1, 1}, {0, 0, 0}, 0))
-root = gr.node('root')
-root:add_child(floor)
-root:add_child(ball)
-root:add_child(shiny)
-gr.render(root, 'split.png', 48, 48, {0, 5, 0.01}, {0, -1, 0}, {0, 0, -1}, 60, {0, 0, 0},
-          {gr.light({0.3, 4, 0.1}, {1, 1, 1}, {0, 0, 0.1})})
-)");
-    job.miss_colour = glm::dvec3(0.0);
+    RenderJob job = caustica::testing::glass_and_mirror_balls_job(
+        "--integrator progressive --draw-caustics-only --caustic-num-photons 800000 --passes 64");
     job.options.photon_split = split;
     const Image image = caustica::testing::render(job);
     double sum = 0.0;

@@ -134,25 +134,7 @@ TEST(Render, ReproducibleOutputIsIdenticalForOneAndTwoThreads) {
 // are one thread's, for classic with caustic and GI photons and anti-aliasing, and for progressive
 // passes with GI and a radius per pixel (factors updated before pass 8).
 TEST(Render, ReproducibleForOneThreeAndSevenThreads) {
-    const RenderJob scene = caustica::testing::load_first_job(R"(
-glass = gr.material({0, 0, 0}, {0.9, 0.9, 0.9}, 40)
-glass:set_ri(1.5)
-mirror = gr.material({0.1, 0.1, 0.1}, {0.8, 0.8, 0.8}, 60)
-ball = gr.nh_sphere('ball', {-0.4, 0.6, 0}, 0.5)
-ball:set_material(glass)
-post = gr.nh_box('post', {0.5, 0, -0.6}, 0.5)
-post:set_material(mirror)
-floor = gr.cube('floor')
-floor:translate(-3, -1, -3)
-floor:scale(6, 1, 6)
-floor:set_material(gr.material({0.8, 0.7, 0.6}, {0, 0, 0}, 0))
-root = gr.node('root')
-root:add_child(floor)
-root:add_child(ball)
-root:add_child(post)
-gr.render(root, 'threads.png', 48, 36, {0, 2.5, 4}, {0, -0.5, -1}, {0, 1, 0}, 45, {0.2, 0.2, 0.2},
-          {gr.light({1, 3, 1}, {1, 1, 1}, {1, 0, 0})})
-)");
+    const RenderJob scene = caustica::testing::glass_and_mirror_balls_job();
     for (const IntegratorKind kind : {IntegratorKind::classic, IntegratorKind::progressive}) {
         RenderJob job = scene;
         job.options.integrator = kind;

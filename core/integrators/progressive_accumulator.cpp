@@ -73,6 +73,19 @@ double shown_blur2(double m, double b, double v) {
     return shown * shown - slope * slope * v;
 }
 
+/// Along `lines` lines of `count` values (value i of line k at k line_stride + i stride), the sum
+/// of each value's neighbours within `half` either side, into `out`, in a fixed order.
+void window_sums(const std::vector<double>& in, std::vector<double>& out, int count, std::size_t stride, int lines,
+                 std::size_t line_stride, int half) {
+    for (int k = 0; k < lines; ++k)
+        for (int i = 0; i < count; ++i) {
+            double sum = 0.0;
+            for (int d = std::max(0, i - half); d <= std::min(count - 1, i + half); ++d)
+                sum += in[static_cast<std::size_t>(k) * line_stride + static_cast<std::size_t>(d) * stride];
+            out[static_cast<std::size_t>(k) * line_stride + static_cast<std::size_t>(i) * stride] = sum;
+        }
+}
+
 }  // namespace
 
 void ProgressiveAccumulator::reset(int width, int height) {
@@ -259,23 +272,11 @@ void ProgressiveAccumulator::adapt_radius_factors(std::vector<float>& factors,
         noise[i] = shown_variance(v, variance_of_mean(m, d[1], d[2], d[3]) * m / n);
         blur2[i] = shown_blur2(v, static_cast<double>(d[4]) / stat_unit / m, variance_of_mean(m, d[4], d[5], d[6]));
     }
-    // Box sums over the window, rows then columns, in a fixed order.
+    // Box sums over the window, rows then columns.
     auto box = [&](std::vector<double>& v) {
-        std::vector<double> rows(pixels, 0.0);
-        for (int y = 0; y < height_; ++y)
-            for (int x = 0; x < width_; ++x) {
-                double sum = 0.0;
-                for (int d = std::max(0, x - half_window); d <= std::min(width_ - 1, x + half_window); ++d)
-                    sum += v[static_cast<std::size_t>(y) * width_ + d];
-                rows[static_cast<std::size_t>(y) * width_ + x] = sum;
-            }
-        for (int y = 0; y < height_; ++y)
-            for (int x = 0; x < width_; ++x) {
-                double sum = 0.0;
-                for (int d = std::max(0, y - half_window); d <= std::min(height_ - 1, y + half_window); ++d)
-                    sum += rows[static_cast<std::size_t>(d) * width_ + x];
-                v[static_cast<std::size_t>(y) * width_ + x] = sum;
-            }
+        std::vector<double> rows(pixels);
+        window_sums(v, rows, width_, 1, height_, static_cast<std::size_t>(width_), half_window);
+        window_sums(rows, v, height_, static_cast<std::size_t>(width_), width_, 1, half_window);
     };
     box(noise);
     box(blur2);

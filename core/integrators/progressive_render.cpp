@@ -22,9 +22,14 @@ namespace {
 /// 720 on default.lua, trade --pass-time).
 constexpr double grid_cell_factor = 3.0;
 
-/// The pass before which the pixels' radii are first adapted: two in each replicate group, so
-/// that each pixel's noise and blur have been measured (docs/CAUSTICS.md, "A radius per pixel").
-constexpr int first_adaptation = 2 * replicate_groups;
+/// The first pass after `pass` before which the pixels' radii are adapted (docs/CAUSTICS.md, "A
+/// radius per pixel"): 8, 32, 128, ... (the first after two passes in each replicate group, so
+/// that each pixel's noise and blur have been measured), or 0 past the sums' capacity.
+int adaptation_after(int pass) {
+    long long next = 2 * replicate_groups;
+    while (next <= pass) next *= 4;
+    return next < max_accumulated_passes ? static_cast<int>(next) : 0;
+}
 
 double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -195,7 +200,6 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         acc = State{};
         acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
         acc.seed = context.seed;
-        if (options.adaptive_radius) acc.next_adaptation = first_adaptation;
     }
     const int limit = options.pass_limit();  // 0 = none
     const double segment_start = now_seconds(), seconds_before = acc.seconds;
@@ -272,12 +276,10 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         }
         // The radius factors change between passes every rank has finished: before pass 8, 32,
         // 128, ... (a round with ranks ends there), from the sums of all the passes before.
-        if (has_photons && acc.next_adaptation > 0 && base == acc.next_adaptation) {
-            adapt_radii(shared ? cluster : nullptr, cancel);
-            acc.next_adaptation = acc.next_adaptation < max_accumulated_passes / 4 ? 4 * acc.next_adaptation : 0;
-        }
+        const bool adapting = options.adaptive_radius && has_photons;
+        if (adapting && base > 0 && adaptation_after(base - 1) == base) adapt_radii(shared ? cluster : nullptr, cancel);
         int round_end = base + ranks;
-        if (acc.next_adaptation > base) round_end = std::min(round_end, acc.next_adaptation);
+        if (const int next = adapting ? adaptation_after(base) : 0; next > 0) round_end = std::min(round_end, next);
         const int p = base + rank;
         const bool mine = (limit == 0 || p < limit) && p < round_end;
         const double t0 = now_seconds();

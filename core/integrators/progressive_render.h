@@ -44,7 +44,6 @@ private:
         long long photons_emitted = 0;
         double seconds = 0.0;     // rendering time over every start and resume
         ErrorEstimate error;
-        int next_adaptation = 0;  // the pass before which the radius factors are next updated (0: never)
         std::vector<float> radius_factors;  // per pixel, the multiplier of r^2 (empty: all 1)
         std::vector<std::int64_t> adapted_sums;  // the sums at the last update (rank 0's, with ranks)
     };

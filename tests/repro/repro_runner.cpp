@@ -1,8 +1,6 @@
 // The child-process runner of the reproducer tests: see repro_runner.h.
 #include "repro_runner.h"
 
-#include "tests/time_bounds.h"
-
 #include "core/io/png_io.h"
 #include "core/util/sanitized.h"
 
@@ -136,8 +134,6 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
 }  // namespace
 
 bool sanitized_build() { return caustica::sanitized_build; }
-
-double time_factor() { return caustica::testing::time_factor(); }
 
 double pace_factor() { return sanitized_build() ? 4.0 : 1.0; }
 

@@ -8,6 +8,8 @@
 // at the wall-clock or resident-size limit. The peak resident size comes from wait4 (exact).
 #pragma once
 
+#include "tests/time_bounds.h"
+
 #include <sys/types.h>
 
 #include <cstddef>
@@ -28,11 +30,8 @@ inline constexpr std::size_t gib = std::size_t(1) << 30;
 /// True when this build runs under AddressSanitizer (no RLIMIT_AS, slower, more memory).
 bool sanitized_build();
 
-/// Factor on time bounds (wall clock and CPU time): 1, or 12 under a sanitizer (AddressSanitizer
-/// and UndefinedBehaviorSanitizer together run CSG- and allocation-heavy scenes 9-14 times
-/// slower), times how much slower this machine runs a fixed piece of work than the machine the
-/// bounds were set on, measured once per process (1 to 4; CAUSTICA_TIME_FACTOR sets it instead).
-double time_factor();
+/// Factor on time bounds, wall clock and CPU time alike: the suite's one factor.
+using caustica::testing::time_factor;
 
 /// Factor on when a test acts (sends Ctrl-C, rewrites a scene) and on the script time limits it
 /// sets: 1, or 4 under a sanitizer. Smaller than time_factor(): acting too late would miss the
