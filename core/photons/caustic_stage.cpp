@@ -61,24 +61,13 @@ std::vector<Light> job_lights(const RenderJob& job) {
 bool caustics_needed(const RenderJob& job) { return caustic_map_wanted(job) || gi_map_wanted(job); }
 
 std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_key) {
-    const Options& o = job.options;
     std::uint64_t h = mix64(geometry_key ^ 0x63617573746963ULL);
     for (const Light& l : job_lights(job)) {
         for (int i = 0; i < 3; ++i) h = hash_double(hash_double(hash_double(h, l.position[i]), l.colour[i]), l.falloff[i]);
         h = hash_double(h, l.radius);
     }
-    h = hash_double(h, static_cast<double>(o.caustic_num_photons));
-    h = hash_double(h, o.unit_distance);
-    h = hash_double(h, o.energy_fudge);
-    h = hash_double(h, static_cast<double>(o.projection_map) * 1e6 + o.caustic_pm_gran);
-    h = hash_double(h, (o.photon_random_emission ? 1.0 : 0.0) + (o.show_projection_map ? 2.0 : 0.0) + (o.reproducible ? 4.0 : 0.0) +
-                           (o.photon_split ? 8.0 : 0.0));
-    h = hash_double(h, static_cast<double>(o.seed));
-    h = hash_double(h, o.max_depth);
-    h = hash_double(h, static_cast<double>(o.integrator));
-    // The GI map (classic) or GI paths (progressive), and whether the caustic map is off.
-    h = hash_double(h, (o.gi_wanted() ? 1.0 : 0.0) + (o.no_caustic_map ? 2.0 : 0.0));
-    h = hash_double(h, static_cast<double>(o.gi_num_photons));
+    // Every option that feeds the photon stage, as the option table declares (core/scene/options.h).
+    h = hash_options_feeding(h, job.options, stage_photons);
     return h | 1;  // never 0, which means "nothing built"
 }
 

@@ -54,7 +54,7 @@ namespace {
 /// `by_content`, by their vertices (the same in every process that loaded the same files).
 std::uint64_t hash_geometry(const RenderJob& job, bool by_content) {
     std::uint64_t h = hash_combine(0x6361757374696361ULL, static_cast<std::uint64_t>(job.root));
-    h = hash_combine(h, (job.options.a4 ? 1 : 0) + (job.options.disable_csg_bb ? 2 : 0) + (job.options.disable_bv ? 4 : 0));
+    h = hash_options_feeding(h, job.options, stage_scene);
     const SceneDesc& scene = *job.scene;
     for (const NodeDesc& node : scene.nodes) {
         h = hash_combine(h, static_cast<std::uint64_t>(node.kind));
@@ -98,12 +98,7 @@ std::uint64_t geometry_fingerprint(const RenderJob& job) { return hash_geometry(
 
 std::uint64_t job_content_fingerprint(const RenderJob& job) {
     std::uint64_t h = hash_geometry(job, true);
-    Options o = job.options;  // what does not change the image
-    o.threads = 0;
-    o.silent = o.verbose = o.timing = o.stats = false;
-    o.script_timeout = Options{}.script_timeout;
-    o.script_memory_mib = Options{}.script_memory_mib;
-    h = hash_combine(h, std::hash<std::string>{}(describe_non_default(o)));
+    h = hash_options_feeding(h, job.options, stage_scene | stage_photons | stage_image | stage_output);
     h = hash_vec(hash_vec(hash_vec(h, job.camera.eye), job.camera.view), job.camera.up);
     h = hash_double(h, job.camera.fovy_degrees);
     h = hash_combine(hash_combine(h, static_cast<std::uint64_t>(job.width)), static_cast<std::uint64_t>(job.height));

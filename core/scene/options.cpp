@@ -21,6 +21,25 @@ struct OptionSpec {
     const char* help;
     std::function<void(Options&, const std::string&)> set;   ///< value is "" for flags
     std::function<std::string(const Options&)> get;         ///< current value as text
+    unsigned stages = stage_none;  ///< the OptionStage bits its value feeds
+    bool preset = false;           ///< sets other options (its value is theirs): not part of a cache key
+    std::function<std::string(const Options&)> cache_key;  ///< what the scene and photon stages see (empty: get)
+
+    OptionSpec feeds(unsigned s) && {
+        stages = s;
+        return std::move(*this);
+    }
+    /// The same, where the scene and photon stages see only `key` of its value.
+    OptionSpec feeds(unsigned s, std::function<std::string(const Options&)> key) && {
+        stages = s;
+        cache_key = std::move(key);
+        return std::move(*this);
+    }
+    OptionSpec preset_of(unsigned s) && {
+        stages = s;
+        preset = true;
+        return std::move(*this);
+    }
 };
 
 std::string format_double(double v) {
@@ -160,32 +179,39 @@ std::string matching_quality_preset(const Options& o) {
     return "none";
 }
 
+/// What the photon stage sees of --gi, --draw-gi-map and --draw-gi-only: one GI map for all three.
+std::string gi_wanted_text(const Options& o) { return o.gi_wanted() ? "wanted" : "none"; }
+
 const std::vector<OptionSpec>& option_table() {
     constexpr double huge = 1e30;
     static const std::vector<OptionSpec> table = {
         choice<IntegratorKind>(
             "integrator", "classic|progressive", "transport",
             "classic: the original renderer's rules (docs/CAUSTICS.md, rule by rule); progressive: our photon mapper",
-            &Options::integrator, {{"classic", IntegratorKind::classic}, {"progressive", IntegratorKind::progressive}}),
+            &Options::integrator, {{"classic", IntegratorKind::classic}, {"progressive", IntegratorKind::progressive}})
+            .feeds(stage_photons | stage_image),
         flag("a4", 0, "conventions", "course (CS488 A4) conventions: transforms in call order, unit cube [0,1]^3",
-             &Options::a4),
-        flag("timing", 't', "reporting", "print per-stage times", &Options::timing),
-        flag("silent", 's', "reporting", "no progress bar or messages, only errors", &Options::silent),
-        flag("stats", 'S', "reporting", "print statistics (rays by kind, intersections, stage times)", &Options::stats),
-        flag("verbose", 'v', "reporting", "print what is being done", &Options::verbose),
-        flag("debug", 'd', "reporting", "print debugging details", &Options::debug),
-        {"quality", 0, "draft|preview|final", "sampling",
+             &Options::a4).feeds(stage_scene),
+        flag("timing", 't', "reporting", "print per-stage times", &Options::timing).feeds(stage_none),
+        flag("silent", 's', "reporting", "no progress bar or messages, only errors", &Options::silent)
+            .feeds(stage_none),
+        flag("stats", 'S', "reporting", "print statistics (rays by kind, intersections, stage times)", &Options::stats)
+            .feeds(stage_none),
+        flag("verbose", 'v', "reporting", "print what is being done", &Options::verbose).feeds(stage_none),
+        flag("debug", 'd', "reporting", "print debugging details", &Options::debug).feeds(stage_none),
+        OptionSpec{"quality", 0, "draft|preview|final", "sampling",
          "preset of photons, N, max distance, anti-aliasing, shadow grid (docs/ACCURACY.md); later options win",
-         apply_quality_preset, matching_quality_preset},
-        flag("disable-aa", 0, "sampling", "one sample per pixel, no adaptive anti-aliasing", &Options::disable_aa),
+         apply_quality_preset, matching_quality_preset}.preset_of(stage_photons | stage_image),
+        flag("disable-aa", 0, "sampling", "one sample per pixel, no adaptive anti-aliasing", &Options::disable_aa)
+            .feeds(stage_image),
         integer("aa-grid", 0, "sampling", "adaptive anti-aliasing: N x N samples in an edge pixel", &Options::aa_grid, 1,
-                16),
+                16).feeds(stage_image),
         real("aa-threshold", "sampling", "colour difference to a neighbour that triggers anti-aliasing",
-             &Options::aa_threshold, 0.0, huge),
-        flag("draw-aa", 0, "debug views", "show the anti-aliased pixels in red", &Options::draw_aa),
+             &Options::aa_threshold, 0.0, huge).feeds(stage_image),
+        flag("draw-aa", 0, "debug views", "show the anti-aliased pixels in red", &Options::draw_aa).feeds(stage_image),
         flag("reproducible", 0, "sampling", "fixed random streams: identical output for any thread count",
-             &Options::reproducible),
-        {"passes", 0, "N", "sampling",
+             &Options::reproducible).feeds(stage_photons | stage_image),
+        OptionSpec{"passes", 0, "N", "sampling",
          "progressive: passes of fresh photons and jittered pixel samples, averaged while the gather radius "
          "shrinks (1 = one k-nearest pass, the default without --time or --target-error; 0 = until --time or "
          "--target-error, the default with either; at most 2^23)",
@@ -194,108 +220,121 @@ const std::vector<OptionSpec>& option_table() {
              o.passes_given = true;
          },
          // Only a --passes that was given is told: without it the other rules decide the limit.
-         [](const Options& o) { return o.passes_given || o.passes != 1 ? std::to_string(o.passes) : std::string(); }},
+         [](const Options& o) { return o.passes_given || o.passes != 1 ? std::to_string(o.passes) : std::string(); }}
+            .feeds(stage_image),
         real("time", "sampling", "progressive: start no pass that would end past this many seconds (0 = no limit)",
-             &Options::time_limit, 0.0, 1e7),
+             &Options::time_limit, 0.0, 1e7).feeds(stage_image),
         real("target-error", "sampling",
              "progressive: stop once the estimated relative error over the caustics is below this (0 = none)",
-             &Options::target_error, 0.0, 10.0),
+             &Options::target_error, 0.0, 10.0).feeds(stage_image),
         integer("seed", 0, "sampling", "base of the random streams", &Options::seed, 0,
-                std::numeric_limits<long long>::max()),
-        integer("threads", 'j', "performance", "worker threads (0 = all cores)", &Options::threads, 0, 1024),
-        flag("disable-bv", 0, "performance", "no bounding volumes around analytic primitives: each ray tests them all (for comparison)", &Options::disable_bv),
+                std::numeric_limits<long long>::max()).feeds(stage_photons | stage_image),
+        integer("threads", 'j', "performance", "worker threads (0 = all cores)", &Options::threads, 0, 1024)
+            .feeds(stage_none),
+        flag("disable-bv", 0, "performance", "no bounding volumes around analytic primitives: each ray tests them all (for comparison)", &Options::disable_bv)
+            .feeds(stage_scene),
         flag("disable-csg-bb", 0, "performance", "no bounding boxes around CSG subtrees (for comparison)",
-             &Options::disable_csg_bb),
+             &Options::disable_csg_bb).feeds(stage_scene),
         integer("max-depth", 0, "optics", "progressive: recursion limit for reflected and refracted rays (classic: white past depth 15, its deep-ray rule)", &Options::max_depth, 0,
-                64),
-        real("min-weight", "optics", "progressive: end a ray path when its weight falls below this (classic: its view-ray cut at 0.02 luma)", &Options::min_weight, 0.0, 1.0),
-        flag("no-soft-shadows", 0, "lights", "treat spherical lights as points", &Options::no_soft_shadows),
-        {"shadow-grid", 0, "N", "lights", "soft shadows: N x N samples on a spherical light (turns soft shadows on)",
+                64).feeds(stage_photons | stage_image),
+        real("min-weight", "optics", "progressive: end a ray path when its weight falls below this (classic: its view-ray cut at 0.02 luma)", &Options::min_weight, 0.0, 1.0)
+            .feeds(stage_image),
+        flag("no-soft-shadows", 0, "lights", "treat spherical lights as points", &Options::no_soft_shadows)
+            .feeds(stage_image),
+        OptionSpec{"shadow-grid", 0, "N", "lights", "soft shadows: N x N samples on a spherical light (turns soft shadows on)",
          [](Options& o, const std::string& v) {
              o.shadow_grid = static_cast<int>(parse_integer("shadow-grid", v, 1, 64));
              o.no_soft_shadows = false;
          },
-         [](const Options& o) { return std::to_string(o.shadow_grid); }},
-        flag("rays", 0, "output", "orange sunburst background instead of the miss colour", &Options::rays),
-        flag("srgb", 0, "output", "encode sRGB in the PNG (default: clamped linear, as the seed)", &Options::srgb),
+         [](const Options& o) { return std::to_string(o.shadow_grid); }}.feeds(stage_image),
+        flag("rays", 0, "output", "orange sunburst background instead of the miss colour", &Options::rays)
+            .feeds(stage_image),
+        flag("srgb", 0, "output", "encode sRGB in the PNG (default: clamped linear, as the seed)", &Options::srgb)
+            .feeds(stage_output),
         choice<Tonemap>("tonemap", "clamp|reinhard|filmic", "output",
                         "PNG tone curve: clamp (the seed), x/(1+x), ACES fit (docs/OUTPUT.md); EXR, PFM stay linear",
                         &Options::tonemap,
-                        {{"clamp", Tonemap::clamp}, {"reinhard", Tonemap::reinhard}, {"filmic", Tonemap::filmic}}),
+                        {{"clamp", Tonemap::clamp}, {"reinhard", Tonemap::reinhard}, {"filmic", Tonemap::filmic}})
+            .feeds(stage_output),
         real("exposure", "output", "scale the written image by 2^D (stops; every format, before --tonemap)",
-             &Options::exposure, -64.0, 64.0),
+             &Options::exposure, -64.0, 64.0).feeds(stage_output),
         choice<ExrPixel>("exr-pixel", "half|float", "output",
                          "channel type of -o OUT.exr: 16-bit half (11 significant bits) or 32-bit float (exact)",
-                         &Options::exr_pixel, {{"half", ExrPixel::half}, {"float", ExrPixel::float32}}),
-        resolution("minres", "render at 100 x 100", 100),
-        resolution("lores", "render at 256 x 256", 256),
-        resolution("midres", "render at 512 x 512", 512),
-        resolution("hires", "render at 1024 x 1024", 1024),
+                         &Options::exr_pixel, {{"half", ExrPixel::half}, {"float", ExrPixel::float32}})
+            .feeds(stage_output),
+        resolution("minres", "render at 100 x 100", 100).feeds(stage_image),
+        resolution("lores", "render at 256 x 256", 256).feeds(stage_image),
+        resolution("midres", "render at 512 x 512", 512).feeds(stage_image),
+        resolution("hires", "render at 1024 x 1024", 1024).feeds(stage_image),
         real("script-timeout", "scene", "seconds the scene script may run (0 = no limit)", &Options::script_timeout,
-             0.0, 1e7),
+             0.0, 1e7).feeds(stage_none),
         integer("script-memory", 0, "scene",
                 "MiB the scene script may use: Lua heap, scene data, meshes and decoded images (0 = no limit)",
-                &Options::script_memory_mib, 0, 1 << 20),
+                &Options::script_memory_mib, 0, 1 << 20).feeds(stage_none),
         integer("caustic-num-photons", 0, "caustics", "photons shot per light for the caustic map (0 = off)",
-                &Options::caustic_num_photons, 0, 100'000'000'000LL),
+                &Options::caustic_num_photons, 0, 100'000'000'000LL).feeds(stage_photons),
         integer("caustic-num-neighbours", 0, "caustics", "photons in each radiance estimate",
                 &Options::caustic_num_neighbours, 1, 1'000'000,
                 "every render thread keeps a search buffer of N photons (8 bytes each), and an estimate "
-                "over more than a million photons is a blur"),
+                "over more than a million photons is a blur").feeds(stage_image),
         integer("caustic-pm-gran", 0, "caustics", "projection-map resolution (cells per half turn)",
                 &Options::caustic_pm_gran, 2, 4096,
-                "each light's map holds 2 G^2 cells (one byte and one ray each: 33.5 million at 4096)"),
+                "each light's map holds 2 G^2 cells (one byte and one ray each: 33.5 million at 4096)")
+            .feeds(stage_photons),
         real("caustic-max-dist", "caustics", "maximum gather distance (default 0.15 x unit distance)",
-             &Options::caustic_max_dist, 0.0, huge, true),
+             &Options::caustic_max_dist, 0.0, huge, true).feeds(stage_image),
         real("accumulation-radius", "caustics",
              "progressive accumulation: the first gather radius, in pixel footprints where it gathers (shrinking "
              "pass by pass; at most --caustic-max-dist)",
-             &Options::accumulation_radius, 1e-3, 1e3),
+             &Options::accumulation_radius, 1e-3, 1e3).feeds(stage_image),
         choice<ProjectionMapMode>("projection-map", "MODE", "caustics",
                                   "auto|on|off: use light projection maps when shooting photons", &Options::projection_map,
                                   {{"auto", ProjectionMapMode::automatic},
                                    {"on", ProjectionMapMode::on},
-                                   {"off", ProjectionMapMode::off}}),
+                                   {"off", ProjectionMapMode::off}}).feeds(stage_photons),
         choice<bool>("caustic-filter", "none|cone", "caustics",
                      "radiance-estimate filter: the seed's disc average, or Jensen's cone", &Options::caustic_cone_filter,
-                     {{"none", false}, {"cone", true}}),
+                     {{"none", false}, {"cone", true}}).feeds(stage_image),
         choice<bool>("adaptive-radius", "on|off", "caustics",
                      "progressive: shrink or grow each pixel's gather radius after 8, 32, 128, ... passes so that "
                      "its blur and noise balance (off: one radius sequence for every pixel)",
-                     &Options::adaptive_radius, {{"on", true}, {"off", false}}),
+                     &Options::adaptive_radius, {{"on", true}, {"off", false}}).feeds(stage_image),
         choice<bool>("photon-split", "on|off", "caustics",
                      "progressive: carry the specular weight at mirrors and glass and follow both the reflected and "
                      "the refracted photon, instead of Russian roulette",
-                     &Options::photon_split, {{"on", true}, {"off", false}}),
+                     &Options::photon_split, {{"on", true}, {"off", false}}).feeds(stage_photons),
         choice<bool>("photon-emission", "ld|random", "caustics",
                      "photon directions: low-discrepancy (Hammersley) or random", &Options::photon_random_emission,
-                     {{"ld", false}, {"random", true}}),
+                     {{"ld", false}, {"random", true}}).feeds(stage_photons),
         real("unit-distance", "caustics", "scene length unit for photon energies", &Options::unit_distance, 0.0, huge,
-             true),
-        real("energy-fudge", "caustics", "scale factor on photon energy", &Options::energy_fudge, 0.0, huge),
+             true).feeds(stage_photons | stage_image),
+        real("energy-fudge", "caustics", "scale factor on photon energy", &Options::energy_fudge, 0.0, huge)
+            .feeds(stage_photons),
         flag("draw-caustic-map", 0, "debug views", "show the stored caustic photons as dots",
-             &Options::draw_caustic_map),
+             &Options::draw_caustic_map).feeds(stage_image),
         flag("draw-caustic-prm", 0, "debug views",
              "accepted for the original's scenes, which set it: renders exactly as without it",
-             &Options::draw_caustic_prm),
+             &Options::draw_caustic_prm).feeds(stage_none),
         flag("show-projection-map", 0, "debug views",
              "tint the surfaces that the lights' projection maps aim photons at (the preview's overlay in batch)",
-             &Options::show_projection_map),
+             &Options::show_projection_map).feeds(stage_photons | stage_image),
         flag("draw-caustics-only", 0, "debug views",
              "show only the caustic radiance (progressive: on black, the image docs/ACCURACY.md measures)",
-             &Options::draw_caustics_only),
-        flag("no-caustic-map", 0, "caustics", "no caustic photon map at all", &Options::no_caustic_map),
+             &Options::draw_caustics_only).feeds(stage_image),
+        flag("no-caustic-map", 0, "caustics", "no caustic photon map at all", &Options::no_caustic_map)
+            .feeds(stage_photons | stage_image),
         flag("gi", 0, "global illumination", "global-illumination photon map: replaces the ambient term (classic)",
-             &Options::gi),
+             &Options::gi).feeds(stage_photons | stage_image, gi_wanted_text),
         integer("gi-num-photons", 0, "global illumination", "photons shot per light for the GI map",
-                &Options::gi_num_photons, 0, 100'000'000'000LL),
+                &Options::gi_num_photons, 0, 100'000'000'000LL).feeds(stage_photons),
         integer("gi-num-neighbours", 0, "global illumination", "photons in each GI estimate",
                 &Options::gi_num_neighbours, 1, 1'000'000,
                 "every render thread keeps a search buffer of N photons, and an estimate over more than a "
-                "million photons is a blur"),
+                "million photons is a blur").feeds(stage_image),
         flag("draw-gi-map", 0, "debug views", "show the stored GI photons as dots (turns --gi on)",
-             &Options::draw_gi_map),
-        flag("draw-gi-only", 0, "debug views", "show only the GI estimate (turns --gi on)", &Options::draw_gi_only),
+             &Options::draw_gi_map).feeds(stage_photons | stage_image, gi_wanted_text),
+        flag("draw-gi-only", 0, "debug views", "show only the GI estimate (turns --gi on)", &Options::draw_gi_only)
+            .feeds(stage_photons | stage_image, gi_wanted_text),
     };
     return table;
 }
@@ -453,6 +492,28 @@ std::string options_help() {
         }
     }
     return out.str();
+}
+
+std::vector<OptionStages> option_stages() {
+    std::vector<OptionStages> out;
+    for (const auto& spec : option_table())
+        out.push_back({spec.long_name, spec.stages, spec.preset, spec.cache_key ? spec.cache_key : spec.get});
+    return out;
+}
+
+std::uint64_t hash_options_feeding(std::uint64_t h, const Options& options, unsigned stage) {
+    std::string text;
+    for (const auto& spec : option_table())
+        if (!spec.preset && (spec.stages & stage)) {
+            const bool cache_stage = (stage & (stage_image | stage_output)) == 0;
+            const auto& value = cache_stage && spec.cache_key ? spec.cache_key : spec.get;
+            text += "--" + spec.long_name + ' ' + value(options) + ' ';
+        }
+    // splitmix64's finaliser over the running hash and the text's hash.
+    std::uint64_t x = h ^ (std::hash<std::string>{}(text) + 0x9e3779b97f4a7c15ULL);
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
 }
 
 std::string describe_non_default(const Options& options) {

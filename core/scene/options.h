@@ -4,6 +4,8 @@
 #include "core/io/image_io.h"
 #include "core/io/tonemap.h"
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -100,6 +102,34 @@ struct Options {
         return integrator == IntegratorKind::progressive && (passes != 1 || time_limit > 0.0 || target_error > 0.0);
     }
 };
+
+/// The stages of a render that an option's value feeds. RenderSession caches each stage by the
+/// options that feed it (and by the scene), so a change re-runs the stages it feeds and every
+/// stage after them: scene -> photons -> image -> output. Each row of the option table declares
+/// its stages; tests/test_option_stages.cpp checks every option against what actually
+/// re-runs and what actually changes.
+enum OptionStage : unsigned {
+    stage_none = 0,     ///< reporting, threads, the script's own limits: nothing rendered changes
+    stage_scene = 1,    ///< flattening and the BVH
+    stage_photons = 2,  ///< the photon maps and their projection maps
+    stage_image = 4,    ///< the image passes (and the progressive accumulation)
+    stage_output = 8,   ///< the written file: tone curve, exposure, encoding
+};
+
+/// Every long option name with the stages it declares; a preset (--quality) sets other options
+/// and declares what they feed. `cache_key` is what the scene and photon stages see of its value:
+/// the value itself, except for the GI views, which all mean "the GI map is wanted" there.
+struct OptionStages {
+    std::string name;
+    unsigned stages = stage_none;
+    bool preset = false;
+    std::function<std::string(const Options&)> cache_key;
+};
+std::vector<OptionStages> option_stages();
+
+/// Folds into `h` the value of every option (presets excepted) that feeds `stage`: the part of a
+/// stage's cache key that options make (for the scene and photon stages, their `cache_key`).
+std::uint64_t hash_options_feeding(std::uint64_t h, const Options& options, unsigned stage);
 
 /// Applies command-line style tokens ("--aa-grid", "4", "-S", "--threads=2") to `options`.
 /// Throws InputError naming the option on unknown options (suggesting the closest), missing or
