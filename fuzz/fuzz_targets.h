@@ -3,7 +3,7 @@
 // runtime_error of the PNG reader). Anything else ends the process and is a finding: a crash, a
 // sanitizer report, an uncaught exception, a broken invariant of the result (fuzz_require).
 // The same functions run under libFuzzer (libfuzzer_main.cpp, build-fuzz) and replay
-// fuzz/regressions/<target>/ in the test suite (tests/test_fuzz_regressions.cpp).
+// fuzz/regressions/<target>/ in the test suite (tests/repro/test_fuzz_regressions.cpp).
 #pragma once
 
 #include <cstddef>

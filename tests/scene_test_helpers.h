@@ -6,7 +6,7 @@
 #include "core/geometry/shapes.h"
 #include "core/lua/scene_loader.h"
 #include "core/scene/source_location.h"
-#include "temp_folder.h"
+#include "tests/temp_folder.h"
 
 #include <string>
 #include <vector>

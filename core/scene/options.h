@@ -106,7 +106,7 @@ struct Options {
 /// The stages of a render that an option's value feeds. RenderSession caches each stage by the
 /// options that feed it (and by the scene), so a change re-runs the stages it feeds and every
 /// stage after them: scene -> photons -> image -> output. Each row of the option table declares
-/// its stages; tests/test_option_stages.cpp checks every option against what actually
+/// its stages; tests/scene/test_option_stages.cpp checks every option against what actually
 /// re-runs and what actually changes.
 enum OptionStage : unsigned {
     stage_none = 0,     ///< reporting, threads, the script's own limits: nothing rendered changes

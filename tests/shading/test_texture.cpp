@@ -9,8 +9,8 @@
 #include "core/shading/texture.h"
 #include "core/shading/texture_image.h"
 #include "core/shading/texture_procedural.h"
-#include "scene_test_helpers.h"
-#include "test_support.h"
+#include "tests/scene_test_helpers.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 #include <png.h>

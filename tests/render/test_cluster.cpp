@@ -2,9 +2,9 @@
 // (make_local_cluster: the protocol the MPI ranks follow, in one process, so that it runs under
 // the sanitizers too; built into session_tests, which CI also runs under ThreadSanitizer). The image of K ranks is one process's, bit for bit, for both integrators;
 // a failure or an interruption on one rank stops every rank with that rank's message. The same
-// with real processes under mpirun: test_mpi.cpp.
-#include "accumulation_orders.h"
-#include "test_support.h"
+// with real processes under mpirun: tests/app/test_mpi.cpp.
+#include "tests/accumulation_orders.h"
+#include "tests/test_support.h"
 
 #include "core/photons/classic_photons.h"
 #include "core/render/cluster.h"

@@ -2,7 +2,7 @@
 // process's image bit for bit (both integrators, --reproducible), share whole frames of an
 // animation, stop together with the failing rank's message, and stop together on Ctrl-C with
 // nothing written. Skipped, saying why, where caustica was built without MPI.
-#include "run_command.h"
+#include "tests/run_command.h"
 #include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
 #include "core/render/render_session.h"
 #include "core/scene/scene_flatten.h"
 #include "core/scene/source_location.h"
-#include "scene_test_helpers.h"
-#include "test_support.h"
+#include "tests/scene_test_helpers.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 

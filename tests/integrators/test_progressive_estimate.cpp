@@ -2,9 +2,9 @@
 // estimate") on a sharp caustic, against a long accumulation of the same scene with other seeds,
 // and the --target-error rule it drives: stopped at E, the true error is at most 1.5 E.
 // (The smooth caustic with an analytic answer: test_progressive_passes.cpp.)
-#include "accumulation_orders.h"
-#include "scene_test_helpers.h"
-#include "test_support.h"
+#include "tests/accumulation_orders.h"
+#include "tests/scene_test_helpers.h"
+#include "tests/test_support.h"
 
 #include "core/integrators/progressive_accumulator.h"
 #include "core/render/image_error.h"

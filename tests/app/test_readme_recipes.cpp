@@ -2,8 +2,8 @@
 // change without its test), made small: every render at --minres with fewer photons, long
 // stopping rules shortened (--time 60 to 2 s, --target-error 0.05 to 0.3, 120 orbit frames to 3).
 // Each must exit 0, write what it names, and stop by the rule it was given.
-#include "course_scenes.h"
-#include "run_command.h"
+#include "tests/course_scenes.h"
+#include "tests/run_command.h"
 
 #include <gtest/gtest.h>
 

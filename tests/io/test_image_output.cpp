@@ -5,7 +5,7 @@
 #include "core/io/tonemap.h"
 #include "core/scene/source_location.h"
 #include "core/util/sanitized.h"
-#include "temp_folder.h"
+#include "tests/temp_folder.h"
 #include "tests/time_bounds.h"
 
 #include <ImfChannelList.h>

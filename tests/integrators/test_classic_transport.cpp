@@ -8,8 +8,8 @@
 #include "core/photons/classic_photons.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene_flatten.h"
-#include "scene_test_helpers.h"
-#include "test_support.h"
+#include "tests/scene_test_helpers.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // converge to the analytic caustic of the virtual-light scene, and the renderer's estimate of its
 // error tracks the true one. More in test_progressive_convergence.cpp (the analytic answers,
 // energy, determinism; the closed diffuse sphere) and test_progressive_stopping.cpp.
-#include "scene_test_helpers.h"
-#include "test_support.h"
+#include "tests/scene_test_helpers.h"
+#include "tests/test_support.h"
 
 #include "core/render/image_error.h"
 #include "core/util/sanitized.h"

@@ -3,8 +3,8 @@
 #include "core/io/image_io.h"
 #include "core/render/image_error.h"
 
-#include "run_command.h"
-#include "temp_folder.h"
+#include "tests/run_command.h"
+#include "tests/temp_folder.h"
 
 #include <gtest/gtest.h>
 

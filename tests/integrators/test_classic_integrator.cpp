@@ -8,7 +8,7 @@
 #include "core/render/tile_renderer.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene_flatten.h"
-#include "test_support.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // a copy of the reproducer in a fresh folder, and asserts the exact outcome: exit code, the
 // "file:line:" of the message, nothing read or written outside, the time taken.
 // Part 2 (memory, crashes, NaN) is test_repro_resources.cpp, part 3 (OBJ, PNG) test_repro_inputs.cpp.
-#include "repro/repro_runner.h"
+#include "tests/repro/repro_runner.h"
 
 #include <gtest/gtest.h>
 

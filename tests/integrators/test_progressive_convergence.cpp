@@ -2,7 +2,7 @@
 // energy whatever the projection maps, the thread count or the scale, and is bit-identical for
 // any thread count with --reproducible. Each test is sized to run in about a second in Release;
 // under the sanitizers (CAUSTICA_SANITIZED) the longer ones do less (fewer passes, lights, scales).
-#include "test_support.h"
+#include "tests/test_support.h"
 
 #include "core/scene/camera.h"
 #include "core/util/sanitized.h"

@@ -5,7 +5,7 @@
 #include "core/geometry/csg_intervals.h"
 #include "core/geometry/render_scene.h"
 #include "core/scene/scene_flatten.h"
-#include "test_support.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 

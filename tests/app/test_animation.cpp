@@ -5,9 +5,9 @@
 #include "core/io/png_io.h"
 #include "core/scene/orbit_camera.h"
 #include "core/scene/source_location.h"
-#include "temp_folder.h"
+#include "tests/temp_folder.h"
 
-#include "run_command.h"
+#include "tests/run_command.h"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include "core/photons/photon_tracer.h"
 #include "core/scene/scene_flatten.h"
 #include "core/scene/source_location.h"
-#include "test_support.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

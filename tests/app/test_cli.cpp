@@ -3,7 +3,7 @@
 #include "core/io/png_io.h"
 #include "core/util/sanitized.h"
 
-#include "run_command.h"
+#include "tests/run_command.h"
 #include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // NaN pixel, a hang or a crash. Each test backs one row of docs/ACCURACY.md.
 #include "core/photons/caustic_stage.h"
 #include "core/scene/source_location.h"
-#include "test_support.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 

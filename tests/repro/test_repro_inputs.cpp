@@ -2,7 +2,7 @@
 // files (B2), made at run time. Each test runs `caustica render` in a child under hard limits
 // (tests/repro/repro_runner.h) and asserts the outcome: the image, or exit 2 with "file:line:
 // call:" naming the file, within bounded time and resident size.
-#include "repro/repro_runner.h"
+#include "tests/repro/repro_runner.h"
 
 #include "core/io/png_io.h"
 

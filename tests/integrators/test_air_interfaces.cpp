@@ -8,8 +8,8 @@
 #include "core/photons/photon_tracer.h"
 #include "core/scene/scene_flatten.h"
 #include "core/shading/optics.h"
-#include "scene_test_helpers.h"
-#include "test_support.h"
+#include "tests/scene_test_helpers.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 

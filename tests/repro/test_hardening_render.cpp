@@ -9,7 +9,7 @@
 #include "core/scene/scene_flatten.h"
 #include "core/scene/scene_validate.h"
 #include "core/scene/source_location.h"
-#include "test_support.h"
+#include "tests/test_support.h"
 
 #include <gtest/gtest.h>
 

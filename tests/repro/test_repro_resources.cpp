@@ -4,7 +4,7 @@
 // child under hard limits (tests/repro/repro_runner.h) on a copy of the reproducer and asserts the
 // outcome: the image, or exit 2 with "file:line: call:", within bounded time and resident size.
 // Part 1 (sandbox, time, signals) is test_repro.cpp; part 3 (OBJ and PNG files) test_repro_inputs.cpp.
-#include "repro/repro_runner.h"
+#include "tests/repro/repro_runner.h"
 
 #include "core/lua/scene_loader.h"
 #include "core/scene/options.h"

@@ -8,8 +8,8 @@
 #include "core/shading/texture_image.h"
 #include "core/shading/texture_mapping.h"
 #include "core/shading/texture_procedural.h"
-#include "scene_test_helpers.h"
-#include "temp_folder.h"
+#include "tests/scene_test_helpers.h"
+#include "tests/temp_folder.h"
 
 #include <gtest/gtest.h>
 
