@@ -235,6 +235,10 @@ fs::path repro_source(const std::string& relative) {
     return fs::path(CAUSTICA_SOURCE_DIR) / "tests" / "repro" / relative;
 }
 
+fs::path regression_source(const std::string& relative) {
+    return fs::path(CAUSTICA_SOURCE_DIR) / "fuzz" / "regressions" / relative;
+}
+
 Tree snapshot(const fs::path& root) {
     Tree tree;
     std::error_code error;
@@ -288,9 +292,13 @@ fs::path Scratch::write(const std::string& relative, const std::string& text) co
 }
 
 fs::path Scratch::copy(const std::string& from, const std::string& to) const {
+    return copy_path(repro_source(from), to);
+}
+
+fs::path Scratch::copy_path(const fs::path& source, const std::string& to) const {
     const fs::path path = root_ / to;
     fs::create_directories(path.parent_path());
-    fs::copy_file(repro_source(from), path, fs::copy_options::overwrite_existing);
+    fs::copy_file(source, path, fs::copy_options::overwrite_existing);
     fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::add);
     return path;
 }

@@ -93,6 +93,11 @@ void signal_group(pid_t child, int signal);
 /// Path of a file under tests/repro/ in the source tree.
 fs::path repro_source(const std::string& relative);
 
+/// Path of a file under fuzz/regressions/ in the source tree, e.g.
+/// "scene_loader/repro_eye_far_minimal.lua": the reproducers that are also fuzz regressions are
+/// kept there only (tests/repro/README.md).
+fs::path regression_source(const std::string& relative);
+
 /// The files of a folder tree (relative path -> size and modification time), symlinks not
 /// followed: compared before and after a run to see what it wrote.
 using Tree = std::map<std::string, std::pair<std::uintmax_t, long long>>;
@@ -114,6 +119,8 @@ public:
     fs::path write(const std::string& relative, const std::string& text) const;
     /// Copies tests/repro/`from` to root()/`to`.
     fs::path copy(const std::string& from, const std::string& to) const;
+    /// Copies the file `source` (a full path, e.g. a regression_source) to root()/`to`.
+    fs::path copy_path(const fs::path& source, const std::string& to) const;
 
 private:
     fs::path root_;

@@ -195,29 +195,37 @@ TEST(ReproResources, R2_FolderIsRefusedAsAMesh) {
 
 // ---- R3: deep scenes render or are refused, in render and in the preview ----
 
+namespace {
+
+/// ../shared/repro/exhaustion/deep_chain.lua at DEPTH=30000: its fuzz regression, which writes the
+/// depth in (as repro_deep_csg_30000.lua does for deep_csg.lua).
+fs::path deep_chain() { return regression_source("scene_loader/repro_deep_chain_30000.lua"); }
+
+}  // namespace
+
 TEST(ReproResources, R3_DeepNodeChainDoesNotCrash) {
     Scratch s;
-    s.copy("exhaustion/deep_chain.lua", "deep_chain.lua");
-    const Outcome o = caustica_run(s.root(), {"render", "-s", "deep_chain.lua"}, 20.0, 1 * gib, {{"DEPTH", "30000"}});
+    s.copy_path(deep_chain(), "deep_chain.lua");
+    const Outcome o = caustica_run(s.root(), {"render", "-s", "deep_chain.lua"}, 20.0, 1 * gib);
     expect_outcome(o, s.root() / "x.png", 32, 32, "deep_chain.lua", Expected::image());
     EXPECT_LE(o.seconds, 10.0 * time_factor()) << o.describe();
 }
 
 TEST(ReproResources, R3_DeepCsgDoesNotCrash) {
     Scratch s;
-    s.copy("exhaustion/deep_csg.lua", "deep_csg.lua");
-    const Outcome o = caustica_run(s.root(), {"render", "-s", "deep_csg.lua"}, 20.0, 1 * gib, {{"DEPTH", "30000"}});
+    s.copy_path(regression_source("scene_loader/repro_deep_csg_30000.lua"), "deep_csg.lua");
+    const Outcome o = caustica_run(s.root(), {"render", "-s", "deep_csg.lua"}, 20.0, 1 * gib);
     expect_outcome(o, s.root() / "x.png", 32, 32, "deep_csg.lua", Expected::image());
     EXPECT_LE(o.seconds, 10.0 * time_factor()) << o.describe();
 }
 
 TEST(ReproResources, R3_PreviewOfADeepNodeChainDoesNotCrash) {
     Scratch s;
-    s.copy("exhaustion/deep_chain.lua", "deep_chain.lua");
+    s.copy_path(deep_chain(), "deep_chain.lua");
     const Outcome o = caustica_run(s.root(),
                                    {"view", "--headless", "deep_chain.lua", "--frames", "3", "--size", "320x240",
                                     "--snapshot", "snap.png"},
-                                   20.0, 1 * gib, {{"DEPTH", "30000"}});
+                                   20.0, 1 * gib);
     expect_outcome(o, s.root() / "snap.png", 320, 240, "deep_chain.lua", Expected::image());
     EXPECT_LE(o.seconds, 10.0 * time_factor()) << o.describe();
 }
@@ -230,13 +238,12 @@ TEST(ReproResources, R3_PreviewSurvivesTheSceneBecomingADeepChain) {
             "local s = gr.sphere('s'); s:set_material(gr.material({0.8,0.2,0.2},{0,0,0},10))\n"
             "local l = gr.light({5,5,5},{1,1,1},{1,0,0})\n"
             "gr.render(s, 'ok.png', 64, 64, {0,0,5}, {0,0,-1}, {0,1,0}, 50, {0.1,0.1,0.1}, {l})\n");
-    const std::string deep = read_text(repro_source("exhaustion/deep_chain.lua"));
+    const std::string deep = read_text(deep_chain());
     Launch run;
     run.cwd = s.root();
     // Enough frames (about 60 a second) to outlast both rewrites, at the sanitizer's pace too.
     const std::string frames = std::to_string(static_cast<int>(200 * pace_factor()));
     run.args = {"view", "--headless", "live.lua", "--frames", frames, "--size", "320x240", "--snapshot", "snap.png"};
-    run.env = {{"DEPTH", "30000"}};
     run.limits.wall_seconds = 30.0 * time_factor();
     int step = 0;
     run.tick = [&](double t, pid_t, const std::string&) {
@@ -258,19 +265,22 @@ TEST(ReproResources, R3_PreviewSurvivesTheSceneBecomingADeepChain) {
 
 namespace {
 
-/// exhaustion/`name` renders a w x h x.png or fails at one of `lines`, quickly.
-void expect_far_scene_handled(const std::string& name, int width, int height, const Expected& expected) {
+/// The scene `source` renders a w x h x.png or fails at one of `lines`, quickly.
+void expect_far_scene_handled(const fs::path& source, int width, int height, const Expected& expected) {
+    const std::string name = source.filename().string();
     Scratch s;
-    s.copy("exhaustion/" + name, name);
+    s.copy_path(source, name);
     const Outcome o = caustica_run(s.root(), {"render", "-s", name}, 20.0);
     expect_outcome(o, s.root() / "x.png", width, height, name, expected);
     EXPECT_LE(o.seconds, 5.0 * time_factor()) << o.describe();
 }
 
-/// fuzz_crashes/`id`/scene.lua with the course meshes it names, rendered with `options`.
-void expect_fuzz_case_handled(const std::string& id, std::vector<std::string> options, const Expected& expected) {
+/// fuzz/regressions/scene_loader/`regression` (../shared/repro/fuzz_crashes/ID/scene.lua) with the
+/// course meshes it names, rendered with `options`.
+void expect_fuzz_case_handled(const std::string& regression, std::vector<std::string> options,
+                              const Expected& expected) {
     Scratch s;
-    s.copy("fuzz_crashes/" + id + "/scene.lua", "fz_rel.lua");
+    s.copy_path(regression_source("scene_loader/" + regression), "fz_rel.lua");
     s.write("plane.obj", plane_obj);
     s.write("buckyball.obj", octahedron_obj);
     s.write("dodeca.obj", octahedron_obj);
@@ -284,31 +294,36 @@ void expect_fuzz_case_handled(const std::string& id, std::vector<std::string> op
 }  // namespace
 
 TEST(ReproResources, R4_FarEye) {
-    expect_far_scene_handled("eye_far_minimal.lua", 16, 16, Expected::error(4, "gr.render"));
+    expect_far_scene_handled(regression_source("scene_loader/repro_eye_far_minimal.lua"), 16, 16,
+                             Expected::error(4, "gr.render"));
 }
 
 TEST(ReproResources, R4_FarLight) {
-    expect_far_scene_handled("light_far_minimal.lua", 16, 16, Expected::error(3, "gr.light"));
+    expect_far_scene_handled(regression_source("scene_loader/repro_light_far_minimal.lua"), 16, 16,
+                             Expected::error(3, "gr.light"));
 }
 
 TEST(ReproResources, R4_FarEyeInAFullScene) {
-    expect_far_scene_handled("eye_1e20_embree_abort.lua", 48, 48, Expected::error(10, "gr.render"));
+    expect_far_scene_handled(repro_source("exhaustion/eye_1e20_embree_abort.lua"), 48, 48,
+                             Expected::error(10, "gr.render"));
 }
 
 TEST(ReproResources, R4_FarLightInAFullScene) {
-    expect_far_scene_handled("light_1e308_embree_abort.lua", 48, 48, Expected::error(8, "gr.light"));
+    expect_far_scene_handled(repro_source("exhaustion/light_1e308_embree_abort.lua"), 48, 48,
+                             Expected::error(8, "gr.light"));
 }
 
 TEST(ReproResources, Fuzz00437_DefaultSceneWithALightAt2To63) {
-    expect_fuzz_case_handled("00437", {"--minres"}, Expected::error(56, "gr.light"));
+    expect_fuzz_case_handled("crash_00437_light_2pow63_default.lua", {"--minres"}, Expected::error(56, "gr.light"));
 }
 
 TEST(ReproResources, Fuzz00909_CowsSeenFrom1e20) {
-    expect_fuzz_case_handled("00909", {"--minres", "--a4"}, Expected::error(107, "gr.render"));
+    expect_fuzz_case_handled("crash_00909_eye_1e20_simple_cows.lua", {"--minres", "--a4"},
+                             Expected::error(107, "gr.render"));
 }
 
 TEST(ReproResources, Fuzz02161_HierWithALightAtMinus1e308) {
-    expect_fuzz_case_handled("02161", {"--minres", "--a4"}, Expected::error(48, "gr.light"));
+    expect_fuzz_case_handled("crash_02161_light_1e308_hier.lua", {"--minres", "--a4"}, Expected::error(48, "gr.light"));
 }
 
 // ---- N1: finite input never puts NaN or Inf in the image ----
@@ -331,10 +346,11 @@ void expect_finite_or_refused(const Scratch& s, const std::string& scene, int si
     }
 }
 
-/// exhaustion/ks_1e308_nan_pixels.lua (48 x 48) with each `from` replaced by its `to`.
+/// ../shared/repro/exhaustion/ks_1e308_nan_pixels.lua (48 x 48), kept as its fuzz regression, with
+/// each `from` replaced by its `to`.
 void expect_variant(std::initializer_list<std::pair<std::string, std::string>> edits, const Expected& expected) {
     Scratch s;
-    std::string text = read_text(repro_source("exhaustion/ks_1e308_nan_pixels.lua"));
+    std::string text = read_text(regression_source("scene_loader/repro_ks_1e308_nan_pixels.lua"));
     for (const auto& [from, to] : edits) {
         const std::size_t at = text.find(from);
         ASSERT_NE(at, std::string::npos) << from;
@@ -344,15 +360,16 @@ void expect_variant(std::initializer_list<std::pair<std::string, std::string>> e
     expect_finite_or_refused(s, "extreme.lua", 48, {}, expected);
 }
 
-/// A glass ball on a floor under a light with quadratic falloff: photons reach the image.
-const char* caustic_scene =
-    "local glass = gr.material({0,0,0},{0.9,0.9,0.9},80); glass:set_ri(1.5)\n"
-    "local s = gr.sphere('s'); s:set_material(glass)\n"
-    "local floor = gr.nh_box('f', {-5,-3,-5}, 10); floor:set_material(gr.material({0.8,0.8,0.8},{0,0,0},0))\n"
-    "local root = gr.node('root'); root:add_child(s); root:add_child(floor)\n"
-    "local l = gr.light({0,5,0},{1,1,1},{1,0,0.1})\n"
-    "gr.option('--caustic-num-photons 20000')\n"
-    "gr.render(root, 'x.png', 32, 32, {0,0,8}, {0,0,-1}, {0,1,0}, 50, {0.1,0.1,0.1}, {l})\n";
+/// A glass ball on a floor under a light with quadratic falloff (the light on line 5), photons
+/// reaching the image: exhaustion/photon_refusal_in_scene.lua (M1) with 20 000 photons.
+std::string caustic_scene() {
+    std::string text = read_text(repro_source("exhaustion/photon_refusal_in_scene.lua"));
+    const std::string refused = "--caustic-num-photons 100000000000";
+    const std::size_t at = text.find(refused);
+    EXPECT_NE(at, std::string::npos) << "photon_refusal_in_scene.lua no longer asks for " << refused;
+    if (at != std::string::npos) text.replace(at, refused.size(), "--caustic-num-photons 20000");
+    return text;
+}
 
 const std::string ks_line = "gr.material({0.8,0.2,0.2},{1e308,0.5,0.5},20)";
 const std::string light_line = "gr.light({5,5,5},{1,1,1},{1,0,0})";
@@ -388,7 +405,7 @@ TEST(ReproNan, N1_LargestAcceptedValuesGiveAFiniteImage) {
 
 TEST(ReproNan, N1_UnitDistanceOf1e30IsRefused) {
     Scratch s;
-    s.write("caustic.lua", caustic_scene);
+    s.write("caustic.lua", caustic_scene());
     const Outcome o = caustica_run(s.root(), {"render", "-s", "--unit-distance", "1e30", "caustic.lua", "-o", "x.png"}, 20.0);
     expect_outcome(o, s.root() / "x.png", 32, 32, "caustic.lua", Expected::error(5, "gr.light"));
     EXPECT_NE(o.err.find("--unit-distance"), std::string::npos) << o.describe();
@@ -396,7 +413,7 @@ TEST(ReproNan, N1_UnitDistanceOf1e30IsRefused) {
 
 TEST(ReproNan, N1_UnitDistanceOf1eMinus300GivesAFiniteImage) {
     Scratch s;
-    s.write("caustic.lua", caustic_scene);
+    s.write("caustic.lua", caustic_scene());
     expect_finite_or_refused(s, "caustic.lua", 32, {"--unit-distance", "1e-300"}, Expected::image());
 }
 
@@ -404,9 +421,10 @@ TEST(ReproNan, N1_UnitDistanceOf1eMinus300GivesAFiniteImage) {
 
 namespace {
 
+/// The U1 reproducer fuzz/regressions/scene_loader/`name` renders, with no UBSan report.
 void expect_renders_cleanly(const std::string& name) {
     Scratch s;
-    s.copy("exhaustion/" + name, name);
+    s.copy_path(regression_source("scene_loader/" + name), name);
     const Outcome o = caustica_run(s.root(), {"render", "-s", name}, 30.0);
     EXPECT_EQ(o.exit_code, 0) << o.describe();
     EXPECT_EQ(o.err.find("runtime error"), std::string::npos) << o.describe();
@@ -417,6 +435,6 @@ void expect_renders_cleanly(const std::string& name) {
 
 }  // namespace
 
-TEST(ReproUb, U1_CsgOperandIndexPast32768) { expect_renders_cleanly("csg_hash_ub.lua"); }
+TEST(ReproUb, U1_CsgOperandIndexPast32768) { expect_renders_cleanly("repro_csg_hash_ub.lua"); }
 
-TEST(ReproUb, U1_TextureIndexPast32768) { expect_renders_cleanly("tex_hash_ub.lua"); }
+TEST(ReproUb, U1_TextureIndexPast32768) { expect_renders_cleanly("repro_tex_hash_ub.lua"); }
