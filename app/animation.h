@@ -1,7 +1,7 @@
-// Animations for `caustica render` (issue 13): `--frames A:B` picks frames, `--orbit-frames N`
-// turns the script's camera 360 degrees around a target in N frames. This file plans the frames
-// (which jobs, which cameras, which files) without rendering anything, so that one process can
-// render them all or several processes can share them out.
+// Animations for `caustica render` (docs/ANIMATION.md): `--frames A:B` picks frames,
+// `--orbit-frames N` turns the script's camera 360 degrees around a target in N frames. This file
+// plans the frames (which jobs, which cameras, which files) without rendering anything, so that one
+// process can render them all or several processes can share them out.
 #pragma once
 
 #include "core/scene/scene_desc.h"

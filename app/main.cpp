@@ -32,7 +32,7 @@ const char* usage =
     "\n"
     "'caustica render --help' lists the options.\n";
 
-/// `caustica render`, under mpirun with the other ranks (issue 13).
+/// `caustica render`, under mpirun with the other ranks (docs/SCALING.md).
 int render_command(const std::vector<std::string>& args) {
 #ifdef CAUSTICA_HAVE_MPI
     if (caustica::launched_by_mpirun()) {

@@ -1,4 +1,4 @@
-// The ranks of an `mpirun` as a Cluster (issue 13). Built only when CMake finds MPI
+// The ranks of an `mpirun` as a Cluster (docs/SCALING.md). Built only when CMake finds MPI
 // (CAUSTICA_HAVE_MPI); the single-process build has none of it.
 #pragma once
 

@@ -14,8 +14,8 @@ inline constexpr int exit_interrupted = 130;
 
 class Cluster;
 
-/// Runs `caustica render ARGS...`; returns the process exit code. With a `cluster` of several
-/// ranks (mpirun, issue 13) every rank runs it with the same arguments: they render together and
+/// Runs `caustica render ARGS...`; returns the process exit code. With a `cluster` of several ranks
+/// (mpirun, docs/SCALING.md) every rank runs it with the same arguments: they render together and
 /// rank 0 writes the files and speaks; a failure on any rank ends every rank with its message.
 int run_render_command(const std::vector<std::string>& args, Cluster* cluster = nullptr);
 

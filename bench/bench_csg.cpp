@@ -1,4 +1,4 @@
-// CSG bounding boxes (seed 1.2): a plate drilled by a 12 x 12 grid of spheres and cylinders
+// CSG bounding boxes: a plate drilled by a 12 x 12 grid of spheres and cylinders
 // (rows of holes are groups, i.e. nested implicit unions, inside a difference), rendered at
 // 256 x 256 on one thread with the boxes of CSG subtrees tested (1) and not (0).
 //   build/bench_csg --benchmark_repetitions=5 --benchmark_report_aggregates_only=true

@@ -2,7 +2,8 @@
 // against the k-d tree (for_each_within) on the same photons, queries and radii, and the two
 // builds. Photons lie on a floor as a pass's caustic map does: a focus, a cardioid and a thin
 // background; queries cover the caustic region on a 256 x 256 grid in tile (Morton) order, the
-// order a tile renderer asks in. Radii from a sub-pixel footprint to the old k-nearest radius.
+// order a tile renderer asks in. Radii from a sub-pixel footprint to the single pass's k-nearest
+// radius.
 //   build/bench_photon_grid --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "core/photons/photon_grid.h"
 #include "core/photons/photon_map.h"

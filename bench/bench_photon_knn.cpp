@@ -1,4 +1,4 @@
-// Our photon k-D tree against nanoflann on the same photons and queries (issue 4).
+// Our photon k-D tree against nanoflann on the same photons and queries (docs/PERFORMANCE.md).
 // Photons are clustered on a floor as a real caustic map is: a focused spot, a cardioid and a thin
 // background. Queries cover the caustic region on a 256 x 256 grid, in tile (Morton) order or in
 // random order. nanoflann gets its best configuration: leaf size 10 and a radius-bounded max-heap
@@ -166,7 +166,8 @@ void knn_nanoflann(benchmark::State& state, std::size_t n, std::uint32_t k, bool
     state.counters["found_per_query"] = double(found) / double(state.iterations() * q.size());
 }
 
-/// The classic search (SEED_BEHAVIOUR.md B5): always k photons, pruned at 0.15 once k are held.
+/// The classic search (docs/CAUSTICS.md, "search"): always k photons, pruned at 0.15 once k are
+/// held.
 void always_k_caustica(benchmark::State& state, std::size_t n, std::uint32_t k, bool tile_order) {
     const PhotonKdTree& tree = our_tree(n);
     const auto& q = queries(tile_order);

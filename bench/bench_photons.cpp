@@ -1,9 +1,9 @@
 // The photon pass: photons per second on 1 and 2 threads, and projection maps on/off/auto on a
 // dense scene (a closed room: every photon meets something), a sparse one (a few objects in open
-// space: photons that miss escape at once) and an enclosed one (the light inside a glass shell:
-// the map cannot pay), after the seed's tables (3.2x and 0.7x). photon_pass/default_scene: the
-// demo scene scenes/default.lua (issue 11's throughput target: traced photons per second on 2
-// threads, the "traced_per_s" counter), 10^7 directions as its --quality preview shoots.
+// space: photons that miss escape at once) and an enclosed one (the light inside a glass shell: the
+// map cannot pay), after the original's tables (3.2x and 0.7x). photon_pass/default_scene: the demo
+// scene scenes/default.lua (the throughput target of docs/PERFORMANCE.md: traced photons per second
+// on 2 threads, the "traced_per_s" counter), 10^7 directions as its --quality preview shoots.
 //   build/bench_photons --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "core/lua/scene_loader.h"
 #include "core/photons/caustic_stage.h"

@@ -1,13 +1,13 @@
-// The preview's responsiveness (issues 5 and 12), measured headless:
+// The preview's responsiveness (docs/PERFORMANCE.md, "The preview"), measured headless:
 //  - latency from a camera change to the first coarse preview and to the first full-resolution
 //    pass at 1280 x 720 on scenes/default.lua, the renderer alone, busy with the previous view
 //    when the camera moves, as while dragging;
-//  - the same end to end through the UI (issue 12: p90 under 50 ms): a mouse drag in, the frame
+//  - the same end to end through the UI (target: p90 under 50 ms): a mouse drag in, the frame
 //    showing the new view's coarse preview drawn, with where the time went;
 //  - the UI thread's frame time while rendering (target 60 fps, never below 30), with the real
 //    panels drawn by OSMesa, while the camera orbits every frame and while a long render runs.
 // usage: bench_preview [SCENE.lua] [--changes N] [--frames N] [--size WxH (of the first measurement)]
-//          [--ui-latency (only the drag through the UI)] [--fixed-beat (frames paced as before issue 12)]
+//          [--ui-latency (only the drag through the UI)] [--fixed-beat (frames on a fixed 60 Hz beat)]
 //          [--compare-pacing (both pacings, alternating)] [--draw-profile (where an idle frame's time goes)]
 //          [--draw-variants [--fragment FILE] (the image's draw cost by texture format and shader)]
 //          [--drag (a continuous drag, both pacings, --frames frames)]
@@ -135,13 +135,12 @@ struct PreviewUnderTest {
 
 /// The same through the whole UI, end to end: a mouse drag goes in as the platform's input, frames
 /// run with the panels drawn, paced as the app paces them (ui/frame_pacing.h) or, for comparison,
-/// on the fixed 60 Hz beat used before issue 12, and the time is taken when a frame showing the
-/// whole coarse preview has been drawn (glFinish). The drag moves again 100 ms after that, while
-/// the full-resolution pass runs. 960 x 960: as many pixels as 1280 x 720, from the script's square
-/// 512 x 512. Where the time goes: how long the frame reading the drag took (the render restarts
-/// within it) and when the session had the coarse pass complete (sampled every 0.5 ms between
-/// frames, as the wait polls). With both pacings, the changes alternate between them, so that both
-/// see the same machine load.
+/// on a fixed 60 Hz beat, and the time is taken when a frame showing the whole coarse preview has
+/// been drawn (glFinish). The drag moves again 100 ms after that, while the full-resolution pass
+/// runs. 960 x 960: as many pixels as 1280 x 720, from the script's square 512 x 512. Where the
+/// time goes: how long the frame reading the drag took (the render restarts within it) and when the
+/// session had the coarse pass complete (sampled every 0.5 ms between frames, as the wait polls).
+/// With both pacings, the changes alternate between them, so that both see the same machine load.
 void latency_with_ui(const std::string& scene, int changes, bool new_pacing, bool fixed_beat) {
     PreviewUnderTest preview(scene, 960.0 / 512.0);
     HeadlessWindow& window = preview.window;
@@ -206,7 +205,7 @@ void latency_with_ui(const std::string& scene, int changes, bool new_pacing, boo
         const Times& t = times[k];
         if (t.preview.empty()) continue;
         std::printf("\nthe same through the UI: a mouse drag, 960 x 960 render, %s (%zu changes)\n",
-                    k == 0 ? "fixed 60 Hz beat (before issue 12)" : "frames paced by ui/frame_pacing.h", t.preview.size());
+                    k == 0 ? "fixed 60 Hz beat" : "frames paced by ui/frame_pacing.h", t.preview.size());
         std::printf("  %-46s %8s %8s %8s\n", "", "median", "p90", "max");
         row("to the frame showing the coarse preview", summarise(t.preview), "ms", "target < 50 ms");
         row("  the frame reading the drag (drawn)", summarise(t.read_frame), "ms", "");
@@ -288,7 +287,7 @@ void continuous_drag(const std::string& scene, int frames) {
         const Times& t = times[k];
         if (t.latency.empty() || t.interval.empty()) continue;
         std::printf("\na continuous drag, 960 x 960 render, %s (%d frames, %d drawn, %zu views shown)\n",
-                    k == 0 ? "fixed 60 Hz beat (before issue 12)" : "frames paced by ui/frame_pacing.h", t.frames, t.drawn,
+                    k == 0 ? "fixed 60 Hz beat" : "frames paced by ui/frame_pacing.h", t.frames, t.drawn,
                     t.latency.size());
         std::printf("  %-46s %8s %8s %8s\n", "", "median", "p90", "max");
         row("drag read -> its view's coarse preview shown", summarise(t.latency), "ms", "");

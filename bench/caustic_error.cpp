@@ -1,4 +1,4 @@
-// Error per photon of the caustic estimate: low-discrepancy against random emission, the seed's
+// Error per photon of the caustic estimate: low-discrepancy against random emission, the original's
 // disc average against Jensen's cone filter, on the virtual-light scene whose answer is known
 // (the ceiling lit through a mirror equals a light of intensity ks I at the mirrored position).
 // Prints a Markdown table.   build/caustic_error [--quick]

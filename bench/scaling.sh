@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scaling measurements for `caustica render` under mpirun (issue 13; docs/SCALING.md).
+# Scaling measurements for `caustica render` under mpirun (docs/SCALING.md).
 #
 #   bench/scaling.sh [--quick] [--runs N] [--build DIR] [--keep]
 #

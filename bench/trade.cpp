@@ -1,4 +1,4 @@
-// Speed against accuracy of the caustic photon map (issue 6): sweeps the photon count, the
+// Speed against accuracy of the caustic photon map (docs/ACCURACY.md): sweeps the photon count, the
 // neighbour count N and the maximum gather distance on the caustic demo scenes, times the photon
 // pass and the render pass of each run, and measures the error against a reference: analytic for
 // the virtual-light scene, a stored very-high-photon render (assets/references/) for the others.

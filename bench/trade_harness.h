@@ -1,6 +1,6 @@
-// The speed-against-accuracy harness of bench/trade (issue 6): its scenes with their references,
-// the sweep of photon count x N x maximum gather distance, and the quality presets, each run
-// timed and its caustic error measured. bench/trade.cpp drives it and writes the outputs.
+// The speed-against-accuracy harness of bench/trade (docs/ACCURACY.md): its scenes with their
+// references, the sweep of photon count x N x maximum gather distance, and the quality presets,
+// each run timed and its caustic error measured. bench/trade.cpp drives it and writes the outputs.
 #pragma once
 
 #include "bench/trade_reference.h"

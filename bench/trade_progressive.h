@@ -1,4 +1,4 @@
-// Progressive photon mapping in bench/trade (issue 11): the error of an accumulating render
+// Progressive photon mapping in bench/trade (docs/ACCURACY.md): the error of an accumulating render
 // (--passes) against time, checkpointed at 1, 2, 4, ... passes of one accumulation, with the
 // renderer's own error estimate beside the true error; and the pixel-averaged references that a
 // jittered accumulation converges to.
@@ -63,7 +63,7 @@ void make_progressive_reference(const ProgressiveRecipe& recipe, int threads);
 bool progressive_lua_scene(const ProgressiveRecipe& recipe, int threads, TradeScene& scene);
 
 /// The time of one progressive pass of a Lua scene's full image (not caustics only) at
-/// width x height with the scene's own options (issue 11: the preview should show a new pass at
+/// width x height with the scene's own options (target: the preview should show a new pass at
 /// least twice a second at 1280 x 720): renders `passes` passes and prints the stage times per pass,
 /// the photons traced per pass and per second of the photon stages, and the radiance estimates' share.
 void pass_timing(const char* scene_name, int width, int height, int passes, int threads);

@@ -93,8 +93,8 @@ std::uint64_t scene_content_hash(const caustica::RenderJob& job) {
     mix(job.options.max_depth);
     for (int i = 0; i < 3; ++i) mix(job.miss_colour[i]);
     mix(static_cast<double>(job.options.integrator));
-    // Bumped when what a scene means changes under the same numbers (issue 10: SEED_BEHAVIOUR.md
-    // Part A: media of colour ks, the horizontal angle, the white miss colour).
+    // Bumped when what a scene means (docs/SCENE_LANGUAGE.md) changes under the same numbers; this
+    // version: media of colour ks, the horizontal camera angle, the white miss colour.
     constexpr double scene_rules_version = 10.0;
     mix(scene_rules_version);
     return h;

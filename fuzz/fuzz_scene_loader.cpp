@@ -93,7 +93,7 @@ void render_first_job(const RenderJob& job) {
     fuzz_require(image.width == 8 && image.height == 8, "the image has the size asked for");
     for (const glm::vec3& p : image.pixels)
         fuzz_require(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z),
-                     "no NaN or Inf reaches the image (issue 9: refuse absurd magnitudes)");
+                     "no NaN or Inf reaches the image (absurd magnitudes are refused)");
 }
 
 }  // namespace

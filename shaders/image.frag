@@ -6,7 +6,7 @@
 // Magnified pixels stay sharp through the texture's GL_NEAREST magnification filter.
 uniform sampler2D u_image;   // RGB32F, row 0 = the image's top row
 uniform float u_exposure;    // multiplier, 2^stops
-uniform float u_srgb;        // 1: sRGB transfer curve, 0: x255 and truncated, as the batch PNG (A7)
+uniform float u_srgb;        // 1: sRGB transfer curve, 0: x255 and truncated, as the batch PNG
 in vec2 v_uv;
 out vec4 out_colour;
 

@@ -54,6 +54,6 @@ void main() {
     }
     c = clamp(c * u_exposure, 0.0, 1.0);
     if (u_srgb) c = srgb_encode(c);
-    else c = floor(c * 255.0) / 255.0;  // as the batch PNG: x255 and truncated (A7)
+    else c = floor(c * 255.0) / 255.0;  // as the batch PNG: x255 and truncated
     out_colour = vec4(c, 1.0);
 }

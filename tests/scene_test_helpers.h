@@ -82,7 +82,7 @@ shiny:set_material(mirror)
 }
 
 /// A hit at object point p of an analytic shape placed with object space = world space, as
-/// RenderScene fills it (uv and the A2 tangents included).
+/// RenderScene fills it (uv and the bump tangents of docs/TEXTURES.md included).
 inline SurfaceHit shape_hit(const Shape& shape, const glm::vec3& p, int face, const glm::vec3& outward) {
     SurfaceHit hit;
     hit.position = hit.object_position = p;

@@ -1,7 +1,7 @@
 // The frame loop's timing (window and headless alike), which decides how soon a camera move
-// shows. A fixed 60 Hz beat showed the coarse preview of a new view up to a whole frame period
-// after the renderer finished it, and meanwhile drew frames of the old image or of half-done
-// blocks, whose 10-20 ms of software GL are taken from the two cores the renderer needs
+// shows. A fixed 60 Hz beat would show the coarse preview of a new view up to a whole frame
+// period after the renderer finished it, and meanwhile draw frames of the previous image or of
+// half-done blocks, whose 10-20 ms of software GL are taken from the two cores the renderer needs
 // (docs/PERFORMANCE.md, the preview). Here: the wait between frames ends when a new view's coarse
 // preview is complete (wait_for_next_frame), and a frame with nothing new to show while that
 // preview renders is not drawn (FrameSkipper). Header only: both platforms' executables and the

@@ -24,7 +24,7 @@ constexpr double scripted_timeout_seconds = 600.0;
 
 ModelConfig model_config(const ViewArguments& args) {
     ModelConfig config;
-    config.option_tokens = args.option_tokens;  // the scene given with them only (issue 12)
+    config.option_tokens = args.option_tokens;  // the scene given with them only
     config.option_scene = args.scene;
     config.recent_file = default_recent_file();
     Options options;

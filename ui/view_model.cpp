@@ -855,7 +855,7 @@ int objects_in_view(const FlatScene& flat, const RenderJob& job) {
 
 namespace {
 
-/// Objects of the first render in view under the seed's and the course's conventions (-1: that
+/// Objects of the first render in view under the original's and the course's conventions (-1: that
 /// convention cannot flatten the scene), and how many objects there are.
 struct ViewCounts {
     int seed = -1, course = -1;
@@ -895,7 +895,7 @@ std::string course_scene_hint(const SceneScript& script) {
 std::string seed_scene_hint(const SceneScript& script) {
     const std::optional<ViewCounts> c = count_in_view(script);
     if (!c || c->seed < 0 || c->seed <= c->course) return {};
-    return "Looks like a scene in the seed's conventions: " + std::to_string(c->seed) + " of " +
+    return "Looks like a scene in the original's conventions: " + std::to_string(c->seed) + " of " +
            std::to_string(c->objects) + " objects are in view without --a4, " + std::to_string(std::max(0, c->course)) +
            " with. Untick --a4 if it renders broken.";
 }

@@ -5,7 +5,7 @@
 // progressive integrator refines without limit unless a stopping rule is given (command line,
 // gr.option or the panel); its rules and a pause change nothing else.
 //
-// What you see is what you save (issue 12): a job starts as `caustica render SCENE [options]`
+// What you see is what you save (docs/PREVIEW.md): a job starts as `caustica render SCENE [options]`
 // composes it (the script's gr.option, then the command-line options given for that scene), and
 // every choice of the person is an override on top, listed by differences(), undoable, and
 // written back as the options of command_line().
@@ -87,12 +87,13 @@ long long photon_memory_limit();
 /// A gr.render camera as Lua to paste into a script: "{ex, ey, ez}, {vx, vy, vz}, {ux, uy, uz}, fov".
 std::string camera_lua(const CameraDesc& camera);
 
-/// A hint to tick --a4 for a script whose first render puts more of its objects (their origins)
-/// in the camera's view under the course conventions (pre-multiplied transforms, unit cube) than under the seed's it is
-/// rendered with; "" when the conventions agree or the seed's keep as much in view.
+/// A hint to tick --a4 for a script whose first render puts more of its objects (their origins) in
+/// the camera's view under the course conventions (pre-multiplied transforms, unit cube) than under
+/// the original's it is rendered with; "" when the conventions agree or the original's keep as much
+/// in view.
 std::string course_scene_hint(const SceneScript& script);
-/// The other way round, for a scene given --a4: a hint to untick it when the seed's conventions put
-/// more objects in view ("" otherwise).
+/// The other way round, for a scene given --a4: a hint to untick it when the original's conventions
+/// put more objects in view ("" otherwise).
 std::string seed_scene_hint(const SceneScript& script);
 
 /// A path quoted for a POSIX shell when it needs to be.
@@ -156,7 +157,7 @@ public:
     /// Back to the script's knobs.
     void reset_knobs();
 
-    // --- what differs from `caustica render` (issue 12: what you see is what you save)
+    // --- what differs from `caustica render` (docs/PREVIEW.md, "What you see is what you save")
     /// The quality preset the person picked ("" = none: the scene's own values).
     const std::string& preset() const { return inputs_.preset; }
     /// Picks a preset (applied after the scene's options, before the person's knobs, like
@@ -183,7 +184,7 @@ public:
     /// the script's gr.option sets it). Scenes opened later keep their own setting.
     void set_a4(bool on);
     /// A hint when the scene looks like a course (CS488 A4) scene rendered without --a4, or like a
-    /// seed-convention scene rendered with it ("" = none).
+    /// scene in the original's conventions rendered with it ("" = none).
     const std::string& a4_hint() const { return a4_hint_; }
 
     // --- undo and redo of the person's choices (knobs, preset, integrator, stopping rules)

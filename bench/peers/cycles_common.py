@@ -1,7 +1,7 @@
-# Shared by the three <scene>_cycles.py scripts: builds a peer scene in Blender 3.4 and renders
-# it with Cycles (issue 11's third peer). Each scene script describes its geometry, materials,
-# lamp and camera in caustica's coordinates and conventions (right-handed, y up) and calls
-# render(); this module turns them into Blender objects (z up), sets Cycles up as
+# Shared by the three <scene>_cycles.py scripts: builds a peer scene in Blender 3.4 and renders it
+# with Cycles (the third peer of docs/PEERS.md). Each scene script describes its geometry,
+# materials, lamp and camera in caustica's coordinates and conventions (right-handed, y up) and
+# calls render(); this module turns them into Blender objects (z up), sets Cycles up as
 # bench/peers/README.md explains, renders and writes:
 #   OUT.exr  the linear float image, as Cycles made it;
 #   OUT.png  the same values clamped to [0, 1] and truncated to 8 bits (x 255, no rounding): what

@@ -1,15 +1,15 @@
--- Peer benchmark (issue 6): a glass of red liquid on a table, as scenes/glass_of_liquid.lua but
--- square, without ambient light, with ks = 1 and POV-Ray-compatible light falloff. The glass is
--- a CSG union of the cup (a cylinder minus a thinner one) and the liquid (the second operand:
--- it wins where the two overlap). glass_of_liquid.pov is the same scene for POV-Ray 3.7;
--- README.md maps every parameter.
+-- Peer benchmark (docs/PEERS.md): a glass of red liquid on a table, as scenes/glass_of_liquid.lua
+-- but square, without ambient light, with ks = 1 and POV-Ray-compatible light falloff. The glass is
+-- a CSG union of the cup (a cylinder minus a thinner one) and the liquid (the second operand: it
+-- wins where the two overlap). glass_of_liquid.pov is the same scene for POV-Ray 3.7; README.md
+-- maps every parameter.
 
 table_top = gr.material({0.75, 0.72, 0.66}, {0, 0, 0}, 0)
 wall_mat = gr.material({0.55, 0.6, 0.68}, {0, 0, 0}, 0)
 glass = gr.material({0, 0, 0}, {1, 1, 1}, 120)
 glass:set_ri(1.5)
--- A transparent material's ks is its medium colour (SEED_BEHAVIOUR.md A6): per unit distance light
--- keeps ks of itself, and its reflections are tinted by it too.
+-- A transparent material's ks is its medium colour (docs/SCENE_LANGUAGE.md): per unit distance
+-- light keeps ks of itself, and its reflections are tinted by it too.
 -- (POV-Ray: fade_power 1001, fade_distance 1 / ln 5, fade_color 1 + ln(kd) / ln 5).
 wine = gr.material({0, 0, 0}, {0.85, 0.25, 0.2}, 120)
 wine:set_ri(1.34)

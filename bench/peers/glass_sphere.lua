@@ -1,4 +1,4 @@
--- Peer benchmark (issue 6): a clear glass sphere on a diffuse floor under a point light; the
+-- Peer benchmark (docs/PEERS.md): a clear glass sphere on a diffuse floor under a point light; the
 -- sphere focuses the light into a bright spot inside its own shadow. glass_sphere.pov is the same
 -- scene for POV-Ray 3.7; README.md maps every parameter.
 

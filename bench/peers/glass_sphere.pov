@@ -1,4 +1,4 @@
-// Peer benchmark (issue 6): glass_sphere.lua for POV-Ray 3.7. Right-handed coordinates as in
+// Peer benchmark (docs/PEERS.md): glass_sphere.lua for POV-Ray 3.7. Right-handed coordinates as in
 // caustica (camera `right -x`), linear output (File_Gamma=1 on the command line), no ambient.
 // The photon count, gather count and radius come from the command line (see run.sh).
 #version 3.7;

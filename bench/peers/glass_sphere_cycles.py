@@ -1,4 +1,4 @@
-# Peer benchmark (issue 11): glass_sphere.lua for Blender 3.4's Cycles, built from scratch.
+# Peer benchmark (docs/PEERS.md): glass_sphere.lua for Blender 3.4's Cycles, built from scratch.
 #   blender -b --factory-startup --python-exit-code 2 -P glass_sphere_cycles.py -- --out PREFIX [options]
 # cycles_common.py has the options, the render settings and the mapping of our parameters.
 import os

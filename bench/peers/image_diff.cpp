@@ -1,4 +1,4 @@
-// Caustic quality for the peer benchmark (issue 6): the RMSE between a render and a reference
+// Caustic quality for the peer benchmark (docs/PEERS.md): the RMSE between a render and a reference
 // PNG over a rectangle and/or a mask, in 8-bit values scaled to [0, 1] over all three channels.
 //
 //   image_diff TEST.png REFERENCE.png [--rect X0 Y0 X1 Y1] [--mask MASK.png | --mask-dark MASK.png]

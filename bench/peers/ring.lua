@@ -1,5 +1,5 @@
--- Peer benchmark (issue 6): a metal ring, the CSG difference of two cylinders, on a diffuse floor
--- under a point light low on its left; light reflected by the inner wall draws a cardioid on
+-- Peer benchmark (docs/PEERS.md): a metal ring, the CSG difference of two cylinders, on a diffuse
+-- floor under a point light low on its left; light reflected by the inner wall draws a cardioid on
 -- the floor inside.
 -- ring.pov is the same scene for POV-Ray 3.7; README.md maps every parameter.
 

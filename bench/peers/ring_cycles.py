@@ -1,4 +1,4 @@
-# Peer benchmark (issue 11): ring.lua for Blender 3.4's Cycles, built from scratch.
+# Peer benchmark (docs/PEERS.md): ring.lua for Blender 3.4's Cycles, built from scratch.
 #   blender -b --factory-startup --python-exit-code 2 -P ring_cycles.py -- --out PREFIX [options]
 # cycles_common.py has the options, the render settings and the mapping of our parameters.
 # MNEE follows refraction only: with the ring a caustic caster (--mode mnee), Cycles also culls

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Against POV-Ray 3.7 (issue 6): renders the three peer scenes with caustica and POV-Ray at the
+# Against POV-Ray 3.7 (docs/PEERS.md): renders the three peer scenes with caustica and POV-Ray at the
 # same resolution and thread count and matched numbers of STORED caustic photons, several
 # quality levels each, times every run with the wall clock and measures the caustic error of each
 # render against its own renderer's reference (a render with many more photons). Writes the
@@ -22,7 +22,7 @@
 # references (a smoke run, not a measurement). --report: only rewrite results.md from the
 # measurements already in the output folder.
 #
-# --progressive (issue 11): error against time instead of equal photons, a race between
+# --progressive: error against time instead of equal photons, a race between
 # POV-Ray at the LEVELS above (and its reference), caustica's progressive integrator and Blender's
 # Cycles (if installed), run in rounds: POV-Ray's level k, caustica's level k, Cycles' level k
 # (each of CYCLES_MODES), each repeated REPEATS times in turn, then level k + 1, so that all see

@@ -1,6 +1,7 @@
-// Composes PNGs into one for the peer benchmark's documentation (issue 6): the inputs side by side
-// (or stacked with --vertical), separated by a white gap, each optionally cropped to the same
-// rectangle and enlarged by an integer factor (nearest neighbour, so pixels and noise stay visible).
+// Composes PNGs into one for the peer benchmark's documentation (docs/PEERS.md): the inputs side by
+// side (or stacked with --vertical), separated by a white gap, each optionally cropped to the same
+// rectangle and enlarged by an integer factor (nearest neighbour, so pixels and noise stay
+// visible).
 //
 //   side_by_side OUT.png IN.png... [--crop X0 Y0 X1 Y1] [--zoom Z] [--gap N] [--vertical]
 //

@@ -1,4 +1,4 @@
-// Interval-list CSG (seed 1.2). All three operations are one sweep over the boundaries of both
+// Interval-list CSG. All three operations are one sweep over the boundaries of both
 // lists in order of t, tracking which operand segments the ray is inside and which operand's
 // medium fills the result there; a SegmentBuilder turns the changes into output segments,
 // merging touching pieces of equal medium, dropping slivers and pairing interface ends.
@@ -57,7 +57,7 @@ public:
 private:
     /// Makes one of the two touching ends the real surface and the other its mirror, at one t.
     /// The real one is the end already marked real, else the second operand's (it wins in a
-    /// union, seed 1.2), else the later one.
+    /// union), else the later one.
     void pair_interface(CsgSegment& last, CsgSegment& next, bool next_from_b) const {
         bool next_is_real;
         if (last.leave.mirrored != next.enter.mirrored) next_is_real = !next.enter.mirrored;

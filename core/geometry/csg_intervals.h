@@ -1,7 +1,7 @@
-// Constructive solid geometry by interval lists (seed 1.2): along a ray, a solid is a sorted list
-// of disjoint segments [t_in, t_out]; union, intersection and difference merge two such lists in
-// one pass. Union segments also carry the medium that fills them, so that a union of a glass and
-// a liquid records the glass/liquid interface that refraction needs.
+// Constructive solid geometry by interval lists, as the original did it: along a ray, a solid is a
+// sorted list of disjoint segments [t_in, t_out]; union, intersection and difference merge two such
+// lists in one pass. Union segments also carry the medium that fills them, so that a union of a
+// glass and a liquid records the glass/liquid interface that refraction needs.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -26,7 +26,8 @@ struct CsgCrossing {
     /// touching ends is the real surface; the other is its mirror image (same t, negated normal).
     bool mirrored = false;
     /// A surface of a subtracted operand (its normal flipped by a difference, at any level): a
-    /// transparent one is its own medium behind it (A6; CsgTree::first_boundary applies this).
+    /// transparent one is its own medium behind it (docs/SCENE_LANGUAGE.md, "CSG media";
+    /// CsgTree::first_boundary applies this).
     bool carved = false;
 };
 

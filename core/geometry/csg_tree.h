@@ -1,6 +1,6 @@
 // A CSG object ready to trace: the flattened tree of operations over leaf primitives (analytic
 // shapes, or closed meshes traced through their own Embree scene), each internal node with its
-// world bounding box. Evaluated along a ray it gives the interval list of seed 1.2.
+// world bounding box. Evaluated along a ray it gives the interval list of csg_intervals.h.
 #pragma once
 
 #include "core/geometry/csg_intervals.h"
@@ -59,7 +59,7 @@ public:
     /// The first boundary of the solid in [tnear, tfar]; `list` receives the interval list
     /// (`out.surface` points into it). A surface carved by a difference's second operand B with a
     /// transparent material has B's material as its inside medium: the path that re-enters the
-    /// solid there is tinted by B (A6).
+    /// solid there is tinted by B (docs/SCENE_LANGUAGE.md, "CSG media").
     bool first_boundary(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& list,
                         CsgBoundary& out) const;
 

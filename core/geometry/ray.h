@@ -47,15 +47,16 @@ struct SurfaceHit {
     /// `outside` is in front of it, or -1 when unknown (the ray's medium stack decides).
     int medium_inside = -1;
     int medium_outside = -1;
-    /// Hit on a surface of a CSG object: its medium interfaces are explicit (A6); otherwise
-    /// classic transport colours both directions with the object's own material (B1).
+    /// Hit on a surface of a CSG object: its medium interfaces are explicit
+    /// (docs/SCENE_LANGUAGE.md, "CSG media"); otherwise classic transport colours both directions
+    /// with the object's own material (docs/CAUSTICS.md, "media").
     bool in_csg = false;
     // Surface frame for textures and bump maps: object_position, uv, dpdu and dpdv are filled only
     // when the scene has a textured or bump-mapped material (they cost trigonometry per hit).
     int face = 0;                           ///< face code of analytic shapes (see SurfaceCrossing)
     int shape_kind = -1;                    ///< ShapeKind of an analytic shape, -1 for a mesh
     glm::vec3 object_position{0.0f};        ///< hit point in the primitive's object space
-    glm::vec3 dpdu{0.0f}, dpdv{0.0f};       ///< A2's bump tangents U and V, through the normal matrix (A4)
+    glm::vec3 dpdu{0.0f}, dpdv{0.0f};       ///< the bump tangents U and V, through the normal matrix
 };
 
 }  // namespace caustica

@@ -275,7 +275,7 @@ void RenderScene::build(const SceneDesc& desc, const FlatScene& flat) {
     }
     const float diagonal = glm::length(hi_ - lo_);
     epsilon_ = (std::isfinite(diagonal) && diagonal > 0.0f) ? 1e-5f * diagonal : 1e-4f;
-    // CSG treats surfaces closer than the ray offset as touching (seed 1.2's epsilon).
+    // CSG treats surfaces closer than the ray offset as touching (the original's CSG epsilon).
     for (CsgTree& tree : csg_) {
         tree.set_epsilon(epsilon_);
         tree.set_bounding_boxes(flat.csg_bounding_boxes);
@@ -338,7 +338,7 @@ void RenderScene::fill_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) const
             hit.uv = shape_uv(prim.shape, hit.object_position, hit.face);
             glm::vec3 dpdu, dpdv;
             shape_tangents(prim.shape, hit.object_position, hit.face, dpdu, dpdv);
-            // A4: the bump tangents of A2 go through the normal matrix.
+            // The bump tangents go through the normal matrix (docs/TEXTURES.md, "Bump maps").
             hit.dpdu = prim.normal_to_world * dpdu;
             hit.dpdv = prim.normal_to_world * dpdv;
         }
@@ -385,7 +385,7 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
     hit.uv = shape_uv(leaf.shape, object_position, hit.face);
     glm::vec3 dpdu, dpdv;
     shape_tangents(leaf.shape, object_position, hit.face, dpdu, dpdv);
-    hit.dpdu = leaf.normal_to_world * dpdu;  // A4: through the normal matrix
+    hit.dpdu = leaf.normal_to_world * dpdu;  // through the normal matrix
     hit.dpdv = leaf.normal_to_world * dpdv;
 }
 

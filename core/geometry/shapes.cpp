@@ -123,7 +123,8 @@ bool cone_interval(const Shape&, const glm::vec3& o, const glm::vec3& d, ShapeIn
     SurfaceCrossing slab_enter, slab_leave;
     if (!slab_y(-0.5f, 0.5f, o, d, slab_enter, slab_leave)) return false;
     // Double cone x^2 + z^2 = (1/2 - y)^2 with the apex at y = 1/2 (half-angle 45 degrees); the
-    // slab y in [-1/2, 1/2] keeps the lower nappe (SEED_BEHAVIOUR A2: height 1, base radius 1).
+    // slab y in [-1/2, 1/2] keeps the lower nappe: height 1, base radius 1 (docs/SCENE_LANGUAGE.md,
+    // "cone").
     const float w0 = 0.5f - o.y;
     const float a = d.x * d.x + d.z * d.z - d.y * d.y;
     const float bh = o.x * d.x + o.z * d.z + w0 * d.y;
@@ -205,7 +206,7 @@ constexpr int face_side = 0, face_top_cap = 1;
 /// u around the y axis of the cylinder and cone sides: 1/2 + atan2(z, x) / 2 pi.
 float around_y(const glm::vec3& p) { return 0.5f + std::atan2(p.z, p.x) / (2.0f * pi); }
 
-/// The cube's 4 x 3 cross (A2 table), from s = the point's position in the box, in [0,1]^3.
+/// The cube's 4 x 3 cross (docs/TEXTURES.md), from s = the point's position in the box, in [0,1]^3.
 glm::vec2 box_uv(const glm::vec3& s, int face) {
     switch (face) {
         case face_plus_x: return {(3.0f - s.y) / 4.0f, (2.0f - s.z) / 3.0f};
@@ -217,7 +218,7 @@ glm::vec2 box_uv(const glm::vec3& s, int face) {
     }
 }
 
-/// The cube's tangents (A2 table): U and V per face.
+/// The cube's tangents (docs/TEXTURES.md): U and V per face.
 void box_tangents(int face, glm::vec3& tangent_u, glm::vec3& tangent_v) {
     switch (face) {
         case face_plus_x: tangent_u = {0, -1, 0}, tangent_v = {0, 0, -1}; return;

@@ -43,12 +43,12 @@ bool intersect_shape_interval(const Shape& shape, const glm::vec3& o, const glm:
 void shape_bounds(const Shape& shape, glm::vec3& lo, glm::vec3& hi);
 
 /// Texture coordinates (u, v in [0,1], v = 1 at an image's top row) of an object-space point on
-/// `face` of the shape: the original renderer's layouts (docs/TEXTURES.md, SEED_BEHAVIOUR A2).
+/// `face` of the shape: the original renderer's layouts (docs/TEXTURES.md).
 glm::vec2 shape_uv(const Shape& shape, const glm::vec3& p, int face);
 
 /// The bump-map tangents U and V at a surface point, in object space, unit length (or zero where
 /// the original has none, e.g. the sphere's U at (0, 0, +-1) or the cone's apex): the per-face
-/// directions of SEED_BEHAVIOUR A2, which are not always dp/du and dp/dv of shape_uv.
+/// directions of docs/TEXTURES.md, which are not always dp/du and dp/dv of shape_uv.
 void shape_tangents(const Shape& shape, const glm::vec3& p, int face, glm::vec3& tangent_u, glm::vec3& tangent_v);
 
 }  // namespace caustica

@@ -11,9 +11,10 @@
 namespace caustica {
 namespace {
 
-/// ks^(d/d_u) per channel (B1, A6), d the distance to the segment's next hit. A transmitted ray
-/// that leaves the scene has no next surface: B1 is silent there, and we attenuate nothing rather
-/// than turn everything seen through a tinted object black.
+/// ks^(d/d_u) per channel (docs/CAUSTICS.md, "media"), d the distance to the segment's next hit.
+/// A transmitted ray that leaves the scene has no next surface: the original's rule is silent
+/// there, and we attenuate nothing rather than turn everything seen through a tinted object black
+/// (docs/CAUSTICS.md, "A transmitted segment that leaves the scene").
 glm::vec3 segment_transmittance(const glm::vec3& ks, float distance, float unit_distance) {
     return std::isfinite(distance) ? medium_transmittance(ks, distance, unit_distance) : glm::vec3(1.0f);
 }
@@ -42,8 +43,8 @@ float ClassicIntegrator::light_visibility(const Light& light, const glm::vec3& p
         ++counters.shadow;
         return setup_.scene->occluded(Ray{point, w, eps, distance - eps}) ? 0.0f : 1.0f;
     }
-    // B2: a regular grid of directions over the square [-sin theta, sin theta]^2 around w, no
-    // jitter; u is horizontal (w x z), v = w x u.
+    // "soft shadows": a regular grid of directions over the square [-sin theta, sin theta]^2 around
+    // w, no jitter; u is horizontal (w x z), v = w x u.
     glm::vec3 u(w.y, -w.x, 0.0f);
     const float u_length = glm::length(u);
     u = u_length > 0.0f ? u / u_length : glm::vec3(1.0f, 0.0f, 0.0f);  // w along z: any horizontal u
@@ -86,7 +87,7 @@ ClassicIntegrator::Traced ClassicIntegrator::trace(const Ray& ray, int depth, fl
                                                    RayCounters& counters) const {
     SurfaceHit hit;
     if (!setup_.scene->intersect(ray, hit)) return {background_colour(setup_, ray.direction), ray_infinity};
-    if (depth > max_depth) return {glm::vec3(1.0f), hit.t};  // B1: trapped light comes back white
+    if (depth > max_depth) return {glm::vec3(1.0f), hit.t};  // "deep rays": trapped light returns white
     return {shade(ray, hit, depth, weight, nullptr, counters), hit.t};
 }
 
@@ -95,7 +96,7 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
                                             const glm::vec3& ks_weighted, const float* known_visibility,
                                             RayCounters& counters) const {
     const bool receives = luma(kd) > caustic_luma_gate;
-    // B6 views replace the surface's own colour (the recursion still runs).
+    // The debug views replace the surface's own colour (the recursion still runs).
     if (setup_.draw_caustics_only)
         return receives && setup_.caustic_map ? photon_estimate(*setup_.caustic_map, hit.position,
                                                                 setup_.caustic_neighbours, counters)
@@ -108,7 +109,7 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
     if (m.air) return glm::vec3(0.0f);  // an empty medium has no surface of its own
 
     const float n_dot_v = glm::dot(n, to_eye);
-    // A5 ambient, or B5: the GI estimate replaces it.
+    // Ambient, or the GI estimate replaces it ("GI term").
     glm::vec3 colour = setup_.gi_map ? saturate_signed(kd * photon_estimate(*setup_.gi_map, hit.position,
                                                                              setup_.gi_neighbours, counters) * n_dot_v)
                                      : setup_.ambient * kd;
@@ -122,7 +123,7 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
         colour = saturate_signed(colour + phong_light(light, o, hit.position, n, to_eye, kd, ks_weighted, m.shininess,
                                                       setup_.unit_distance));
     }
-    // B5: the caustic term, E (n.v); kd is already in the photons.
+    // "estimate": the caustic term, E (n.v); kd is already in the photons.
     if (setup_.caustic_map && setup_.caustic_map->size() > min_caustic_photons && receives)
         colour = saturate_signed(colour + photon_estimate(*setup_.caustic_map, hit.position, setup_.caustic_neighbours,
                                                           counters) * n_dot_v);
@@ -138,7 +139,7 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
 glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int depth, float weight,
                                    const float* known_visibility, RayCounters& counters) const {
     const Material& m = setup_.scene->materials()[hit.material];
-    // B1: the shading normal is the outward one, not turned towards the viewer.
+    // "normals": the shading normal is the outward one, not turned towards the viewer.
     glm::vec3 n = hit.normal;
     glm::vec3 kd = m.kd;
     if (setup_.textures && !setup_.textures->empty()) {
@@ -159,7 +160,7 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
         return colour;
     }
 
-    // A6/B1: the regions on either side (a CSG surface names them; a plain object is its own
+    // "media": the regions on either side (a CSG surface names them; a plain object is its own
     // material inside and air outside), and the material entered, whose ks weights both the
     // reflected and the transmitted ray: total internal reflection against air costs nothing.
     const auto& materials = setup_.scene->materials();

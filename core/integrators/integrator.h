@@ -1,9 +1,9 @@
 // The seam between the image passes and light transport. The tile renderer (core/render/) asks an
 // Integrator for the colour along camera rays and how the pixels of an image are sampled; two
 // integrators sit behind it, chosen per render by --integrator:
-//   classic      the original renderer's rules (SEED_BEHAVIOUR.md Part B), core/integrators/classic.*
+//   classic      the original renderer's rules (docs/CAUSTICS.md), core/integrators/classic.*
 //   progressive  our physically motivated photon mapper, core/integrators/progressive.*
-// Both share the scene language (Part A): core/integrators/shading_common.*.
+// Both share the scene language (docs/SCENE_LANGUAGE.md): core/integrators/shading_common.*.
 #pragma once
 
 #include "core/geometry/render_scene.h"
@@ -28,8 +28,8 @@ struct ShadingSetup {
     const TextureSet* textures = nullptr;  ///< may be null: no textures
     std::vector<Light> lights;
     glm::vec3 ambient{0.0f};
-    glm::vec3 miss_colour{1.0f};  ///< SEED_BEHAVIOUR.md A5: white unless gr.set_miss_colour
-    bool sky = false;             ///< --rays: the orange sunburst behind everything (A5)
+    glm::vec3 miss_colour{1.0f};  ///< white unless gr.set_miss_colour (docs/SCENE_LANGUAGE.md)
+    bool sky = false;             ///< --rays: the orange sunburst behind everything
     glm::vec3 view_right{1.0f, 0.0f, 0.0f}, view_up{0.0f, 1.0f, 0.0f};  ///< camera frame for the sunburst
     int max_depth = 8;            ///< progressive: recursion limit
     float min_weight = 1e-3f;     ///< progressive: path weight cut
@@ -50,7 +50,7 @@ struct ShadingSetup {
     float radius_scale = 1.0f;
     const PhotonMap* gi_map = nullptr;                 ///< classic --gi
     int gi_neighbours = 100;
-    // Debug views (B6).
+    // Debug views (docs/CAUSTICS.md, "debug views").
     bool draw_caustics_only = false;
     bool draw_caustic_map = false;
     bool draw_gi_only = false;
@@ -65,8 +65,8 @@ enum class PixelSampling {
     /// A sample through each pixel centre, then an N x N jittered grid where a pixel differs from
     /// a neighbour by more than the threshold.
     adaptive_neighbours,
-    /// SEED_BEHAVIOUR.md B3: an N x N regular grid; above N = 2 the four corner samples first,
-    /// and the rest only where those four differ by more than the threshold.
+    /// The classic "anti-aliasing" (docs/CAUSTICS.md): an N x N regular grid; above N = 2 the four
+    /// corner samples first, and the rest only where those four differ by more than the threshold.
     corner_grid,
 };
 

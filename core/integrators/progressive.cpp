@@ -62,7 +62,7 @@ glm::vec3 ProgressiveIntegrator::trace(const Ray& ray, const PathState& path, Ra
                             RayCounters& counters) const {
     SurfaceHit hit;
     const bool found = setup_.scene->intersect(ray, hit);
-    // Light travelling inside a coloured medium is attenuated with the distance (seed 1.3).
+    // Light travelling inside a coloured medium is attenuated with the distance.
     glm::vec3 transmittance(1.0f);
     if (const int medium = path.media.top(); medium >= 0) {
         const Material& m = setup_.scene->materials()[medium];
@@ -225,15 +225,16 @@ glm::vec3 ProgressiveIntegrator::dielectric(const Ray& ray, const SurfaceHit& hi
     const float n1 = medium_index(media.from), n2 = medium_index(media.to);
     const float cos_i = -glm::dot(n, ray.direction);
     const float reflectance = fresnel_reflectance(n1, n2, cos_i);
-    // A5: a transparent surface has ambient, diffuse and a highlight weighted by R (glass
+    // A transparent surface has ambient, diffuse and a highlight weighted by R (glass
     // highlights are dim at normal incidence); air is only an interface.
     glm::vec3 colour(0.0f);
     if (!m.air && !setup_.draw_caustics_only)
         colour = setup_.ambient * kd + direct_light(m, kd, reflectance * m.ks, hit, n, -ray.direction,
                                                     path.known_visibility, random, counters);
     if (path.depth >= setup_.max_depth) return colour;
-    // A6: the reflected ray carries R ks; the transmitted one (1 - R) and the medium's ks^(d/d_u),
-    // applied along the segment by trace(); no per-crossing ks factor.
+    // The medium colour (docs/SCENE_LANGUAGE.md): the reflected ray carries R ks; the transmitted
+    // one (1 - R) and the medium's ks^(d/d_u), applied along the segment by trace(); no
+    // per-crossing ks factor.
     const glm::vec3 specular = m.air ? glm::vec3(1.0f) : m.ks;
     const float eps = setup_.scene->epsilon();
     PathState next = path;

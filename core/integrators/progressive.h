@@ -1,8 +1,8 @@
-// The progressive integrator: our physically motivated transport over the scene language of
-// Part A. Whitted-style recursion with the course's Phong model (A5), shadows (hard, or stratified
-// over spherical lights), mirror reflection, Fresnel-weighted reflection and refraction through
-// media of colour ks with a medium stack (A6), and the caustic photon map gathered with a side
-// test. Issue 11 makes it converge pass by pass.
+// The progressive integrator: our physically motivated transport over the scene language
+// (docs/SCENE_LANGUAGE.md). Whitted-style recursion with the course's Phong model, shadows (hard, or
+// stratified over spherical lights), mirror reflection, Fresnel-weighted reflection and refraction
+// through media of colour ks with a medium stack, and the caustic photon map gathered with a side
+// test. Passes make it converge (docs/CAUSTICS.md, "Progressive photon mapping").
 #pragma once
 
 #include "core/integrators/integrator.h"

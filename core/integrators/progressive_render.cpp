@@ -18,8 +18,8 @@ namespace caustica {
 namespace {
 
 /// The grid's cells, in typical radii: a gather of that radius scans about (1 + 2/3)^3 = 4.6 cells
-/// (2 radii: 8 cells, each holding fewer photons; measured 25% more time in the gathers at 1280 x
-/// 720 on default.lua, trade --pass-time).
+/// (2 radii: 8 cells, each holding fewer photons, and slower gathers: docs/PERFORMANCE.md,
+/// "Progressive photon mapping").
 constexpr double grid_cell_factor = 3.0;
 
 /// The first pass after `pass` before which the pixels' radii are adapted (docs/CAUSTICS.md, "A

@@ -1,6 +1,7 @@
-// The scene language's shading rules that both integrators share (SEED_BEHAVIOUR.md Part A):
-// the luma, the Phong term with falloff in unit distances (A5), the backgrounds (A5), Fresnel
-// reflectance with the media of a hit (A6), and packets of shadow rays for point lights.
+// The scene language's shading rules that both integrators share (docs/SCENE_LANGUAGE.md, "What a
+// scene means"): the luma, the Phong term with falloff in unit distances ("Phong"), the backgrounds
+// ("background"), Fresnel reflectance with the media of a hit ("medium colour", "CSG media"), and
+// packets of shadow rays for point lights.
 #pragma once
 
 #include "core/integrators/integrator.h"
@@ -11,13 +12,13 @@ namespace caustica {
 /// or a threshold.
 inline float luma(const glm::vec3& c) { return 0.299f * c.x + 0.587f * c.y + 0.114f * c.z; }
 
-/// A5 --rays: 28 alternating orange sectors around the view axis.
+/// --rays: 28 alternating orange sectors around the view axis.
 glm::vec3 sunburst(const glm::vec3& direction, const glm::vec3& right, const glm::vec3& up);
 
 /// The colour of a ray that leaves the scene: the sunburst under --rays, else the miss colour.
 glm::vec3 background_colour(const ShadingSetup& setup, const glm::vec3& direction);
 
-/// A5, one light: C o [kd + ks' max(r.v, 0)^p (n.l)] (n.l) / (c0 + c1 d + c2 d^2), d in unit
+/// "Phong", one light: C o [kd + ks' max(r.v, 0)^p (n.l)] (n.l) / (c0 + c1 d + c2 d^2), d in unit
 /// distances, where `visibility` is o. Returns 0 when n.l <= 0. `diffuse` off drops kd.
 glm::vec3 phong_light(const Light& light, float visibility, const glm::vec3& position, const glm::vec3& n,
                       const glm::vec3& to_eye, const glm::vec3& kd, const glm::vec3& ks_weighted, float shininess,
@@ -30,8 +31,8 @@ bool direction_to_light(const Light& light, const glm::vec3& position, glm::vec3
 /// lights with soft shadows are skipped): visibility[lane][light] becomes 0 or 1, or stays -1
 /// where no ray was traced (no hit, or the light behind the surface as `normal_facing` decides).
 /// With `flip_normals` the surface side facing the ray is used (progressive); without it the
-/// outward normal (classic B1: shading normals are not flipped). With `grid1_is_point` a spherical
-/// light with a 1 x 1 shadow grid is a point (classic B2).
+/// outward normal (classic "normals": not flipped). With `grid1_is_point` a spherical light with a
+/// 1 x 1 shadow grid is a point (classic "soft shadows"; docs/CAUSTICS.md).
 inline constexpr int packet_lights = 8;
 void primary_visibility8(const ShadingSetup& setup, const Ray* rays, const SurfaceHit* hits, const bool* found,
                          bool flip_normals, bool grid1_is_point, float (*visibility)[packet_lights],

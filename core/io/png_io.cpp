@@ -334,8 +334,8 @@ WriteOutcome write_png_stream(FILE* file, const Image& image, PixelEncoding enco
 
 unsigned char encode_channel(float value, PixelEncoding encoding) {
     float v = std::isnan(value) ? 0.0f : std::fmin(std::fmax(value, 0.0f), 1.0f);
-    // Linear: x255 and truncate, no rounding, as the original wrote its images (SEED_BEHAVIOUR A7),
-    // so 0.999 -> 254 and 0.5 -> 127.
+    // Linear: x255 and truncate, no rounding, as the original wrote its images
+    // (docs/SCENE_LANGUAGE.md, "PNG bytes"), so 0.999 -> 254 and 0.5 -> 127.
     if (encoding != PixelEncoding::srgb) return static_cast<unsigned char>(v * 255.0f);
     // --srgb is ours, not the original's: the sRGB curve, rounded to the nearest value (v * 255
     // lies in [0, 255], so adding 0.5 in double is exact and truncating rounds half up).

@@ -1,6 +1,7 @@
-// The Lua 5.1 names the original scenes were written against (SEED_BEHAVIOUR.md A8), on top of the
-// sandboxed 5.4 libraries: string.gfind, table.getn, unpack, math.mod, math.pow, loadstring and
-// 5.1's math.random (lua_random51.h). module, package.seeall and require are in lua_sandbox.cpp.
+// The Lua 5.1 names the original scenes were written against (docs/SCENE_LANGUAGE.md, "Lua 5.1
+// compatibility"), on top of the sandboxed 5.4 libraries: string.gfind, table.getn, unpack,
+// math.mod, math.pow, loadstring and 5.1's math.random (lua_random51.h). module, package.seeall and
+// require are in lua_sandbox.cpp.
 // Nothing here reaches past the sandbox: loadstring compiles text only, into the same global
 // table, and runs under the same instruction hook and allocator as the rest of the script.
 #include "core/lua/lua_context.h"

@@ -60,7 +60,7 @@ struct LoaderContext {
     std::size_t scene_bytes = 0;            ///< estimate of ctx.scene's size: what one gr.render snapshot costs
     Options options;                        ///< base options + every gr.option so far
     std::vector<std::pair<std::string, SourceLocation>> option_origins;  ///< see RenderJob::option_origins
-    glm::dvec3 miss_colour{1.0};            ///< SEED_BEHAVIOUR.md A5: white until gr.set_miss_colour
+    glm::dvec3 miss_colour{1.0};            ///< white until gr.set_miss_colour (docs/SCENE_LANGUAGE.md)
     std::vector<RenderJob> renders;
     std::vector<std::string> warnings;
     std::string warning_in_progress;        ///< pieces of a multi-part warn() message

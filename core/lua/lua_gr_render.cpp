@@ -111,7 +111,7 @@ CallResult gr_set_miss_colour(lua_State* L, LoaderContext& ctx) {
             throw InputError("colour must not be negative, colour[" + std::to_string(i + 1) + "] is " +
                              format_number(colour[i]));
     ctx.miss_colour = colour;
-    ctx.options.rays = false;  // A5: a miss colour replaces the --rays sunburst
+    ctx.options.rays = false;  // a miss colour replaces --rays (docs/SCENE_LANGUAGE.md, "background")
     return CallResult::nothing();
 }
 

@@ -1,7 +1,7 @@
 // The sandboxed Lua environment a scene script runs in (SCENE_API.md, "Scripts run sandboxed"):
 // base (without dofile, loadfile, and __gc in setmetatable), table, string, math and utf8; io restricted to reading files under the scene's folder;
 // os.clock/time/date/getenv; debug.getinfo/traceback; text-only load; and the Lua 5.1 module
-// system the seed's scenes use (module, package.seeall, require of sibling and include/ files).
+// system the original's scenes use (module, package.seeall, require of sibling and include/ files).
 // The other Lua 5.1 names (loadstring, unpack, math.random as 5.1 had it, ...) are in
 // lua_compat51.cpp.
 //

@@ -23,7 +23,7 @@ bool is_specular(const MaterialDesc& m) { return m.reflective || m.refractive_in
 bool caustic_map_wanted(const RenderJob& job) {
     const Options& o = job.options;
     if (job.lights.empty()) return false;
-    // Progressive --gi: one map of every path with a bounce, whatever the materials (issue 11).
+    // Progressive --gi: one map of every path with a bounce, whatever the materials.
     if (o.integrator == IntegratorKind::progressive && o.gi_wanted()) return o.gi_num_photons > 0;
     if (o.no_caustic_map) return false;
     if (o.caustic_num_photons <= 0 && !o.show_projection_map) return false;
@@ -89,7 +89,8 @@ namespace {
 void build_progressive_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                              const std::atomic<bool>* cancel, const PhotonPassExtras& extras) {
     const Options& o = job.options;
-    // The roulette needs P(diffuse) + P(specular) <= 1 where a surface is a mirror (seed 1.1.1).
+    // The roulette needs P(diffuse) + P(specular) <= 1 where a surface is a mirror
+    // (docs/CAUSTICS.md, "Photon paths").
     // A transparent material's kd is its medium colour, not a reflectance: it is not counted.
     for (const MaterialDesc& m : job.scene->materials) {
         if (!m.reflective || m.refractive_index.has_value() || m.air) continue;
@@ -267,7 +268,8 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
     const Options& o = job.options;
     stage = CausticStage{};
     stage.key = caustic_fingerprint(job, 0);
-    // The photons see kd(uv) (A4): load the textures here when the session did not pass them.
+    // The photons see kd(uv) (a texture replaces kd): load the textures here when the session did
+    // not pass them.
     std::unique_ptr<TextureSet> own_textures;
     if (!textures) {
         bool textured = false;

@@ -71,8 +71,9 @@ struct PhotonPassExtras {
     int group = 0;                       ///< its replicate group: each group's directions are their own sequence
 };
 
-/// A progressive integrator's photon pass (issue 11): with `extras.first`, a fresh photon stream
-/// of `extras.seed` through the first pass's projection maps; without, as build_caustic_stage.
+/// A progressive integrator's photon pass (docs/CAUSTICS.md, "Progressive photon mapping"): with
+/// `extras.first`, a fresh photon stream of `extras.seed` through the first pass's projection maps;
+/// without, as build_caustic_stage.
 void build_progressive_pass(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                             const std::atomic<bool>* cancel, const PhotonPassExtras& extras);
 

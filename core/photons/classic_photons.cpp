@@ -23,13 +23,13 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-// Emission cells (B4). The original split the sphere into the 1 310 720 triangles of an
-// icosahedron whose faces were subdivided 8 times, each triangle into four at its edge midpoints,
-// every midpoint pushed onto the unit sphere as soon as it was made (a geodesic subdivision: the
-// largest cell's solid angle is 1.30 times the smallest's), and shot floor(N a_T) photons in each,
-// a_T the cell's share of the sphere. We do the same without storing the triangles: a cell is
-// named by its face and the child taken at each level (corner a, b, c or the middle), and its
-// vertices are found by descending from the face.
+// Emission cells (docs/CAUSTICS.md, "The emission cells"). The original split the sphere into the
+// 1 310 720 triangles of an icosahedron whose faces were subdivided 8 times, each triangle into
+// four at its edge midpoints, every midpoint pushed onto the unit sphere as soon as it was made (a
+// geodesic subdivision: the largest cell's solid angle is 1.30 times the smallest's), and shot
+// floor(N a_T) photons in each, a_T the cell's share of the sphere. We do the same without storing
+// the triangles: a cell is named by its face and the child taken at each level (corner a, b, c or
+// the middle), and its vertices are found by descending from the face.
 // The photons are shot from blocks of 4^5 cells (a level-3 triangle each, 1280 blocks), walked
 // depth first. Inside a cell the direction is uniform in solid angle: a point p uniform on the flat
 // triangle through the cell's vertices, projected, has density proportional to |p|^3, so it is
@@ -127,7 +127,7 @@ double cell_solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dve
     return spherical_triangle_solid_angle(a, b, c);
 }
 
-/// floor(N a_T) for a cell of solid angle `omega` (B4). Below one photon per cell (N under
+/// floor(N a_T) for a cell of solid angle `omega`. Below one photon per cell (N under
 /// 1 310 720) that rule would shoot nothing at all under 1 086 326 photons (the largest cell's
 /// 1 / a_T), the default --gi-num-photons of 10^6 included, so there each cell's share is rounded
 /// up or down by a uniform number fixed per cell: N photons on average, and a map that works.
@@ -194,11 +194,11 @@ bool cell_may_reach_map(const ProjectionMap& map, const glm::dvec3& a, const glm
     return false;
 }
 
-/// The diffuse choice, the specular one or absorption, by the cumulative luma odds (B4).
+/// The diffuse choice, the specular one or absorption, by the cumulative luma odds ("roulette").
 enum class Choice { diffuse, specular, absorbed };
 
-/// What a photon sees of the material it enters (B4): air (the outside or gr.air()) has kd = 0,
-/// ks = 1 and is transparent.
+/// What a photon sees of the material it enters ("The material entered"): air (the outside or
+/// gr.air()) has kd = 0, ks = 1 and is transparent.
 struct EnteredSurface {
     glm::vec3 kd{0.0f}, ks{1.0f};
     bool reflective = false, transparent = true;
@@ -316,7 +316,7 @@ glm::vec3 classic_diffuse_direction(const glm::vec3& incoming, const glm::vec3& 
     const float sin_alpha = u1, cos_alpha = std::sqrt(std::fmax(0.0f, 1.0f - u1 * u1));
     const float azimuth = 2.0f * static_cast<float>(pi) * u2;
     glm::vec3 d = cos_alpha * mirror + sin_alpha * (std::cos(azimuth) * t1 + std::sin(azimuth) * t2);
-    return glm::normalize(d);  // below the surface it goes on into the solid (B4: the lobe is not clipped)
+    return glm::normalize(d);  // below the surface it goes on into the solid: the lobe is not clipped
 }
 
 bool classic_projection_target(const Material& m) {
@@ -333,7 +333,8 @@ int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, C
         SurfaceHit hit;
         if (!scene.intersect(ray, hit)) break;
         ++hits;  // every surface counts, gr.air() ones included
-        // The odds, the power and what is stored all come from the material entered (B4, as B1).
+        // The odds, the power and what is stored all come from the material entered, as for view
+        // rays.
         const ClassicInterface side = classic_interface(materials, hit, ray.direction);
         const EnteredSurface m = entered_surface(materials, textures, side.entered, hit);
         // Storing looks at what came before this hit, whatever the hit chooses next.
@@ -349,13 +350,13 @@ int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, C
         if (choice == Choice::diffuse) {
             if (kind == ClassicMapKind::caustic) break;  // a caustic path holds no diffuse bounce
             after_diffuse = true;
-            power = saturate(power * m.kd);  // not divided by P(diffuse): B4
+            power = saturate(power * m.kd);  // not divided by P(diffuse): "roulette"
             const float u1 = random.uniform(), u2 = random.uniform();
             ray = Ray{hit.position, classic_diffuse_direction(ray.direction, n, u1, u2), eps, ray_infinity};
             continue;
         }
         after_specular = true;
-        power = saturate(power * m.ks);  // not divided by P(specular): B4
+        power = saturate(power * m.ks);  // not divided by P(specular): "roulette"
         if (!m.transparent) {  // a mirror reflects always (R = 1)
             ray = Ray{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
             continue;
@@ -410,7 +411,8 @@ ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const Textur
             map = &result.maps[l];
         }
         caustic.map_seconds = seconds_since(t_map);
-        // The energy of a photon is set by N requested, never by the photons shot (B4).
+        // The energy of a photon is set by N requested, never by the photons shot
+        // ("photon emission").
         if (shoot_caustics) {
             expected_caustic += static_cast<double>(caustic_offered) * (map ? std::min(1.0, 1.1 * caustic.occupied_fraction) : 1.0);
             check_photon_memory(expected_caustic + expected_gi, settings.caustic_photons, settings.memory_budget_bytes);

@@ -1,8 +1,9 @@
-// The classic integrator's photon pass (SEED_BEHAVIOUR.md B4): the original renderer's caustic map
-// and global-illumination (GI) map, rule for rule. Photons leave each light's centre, one batch per
-// cell of an icosahedral subdivision of the sphere; at each hit the luma of kd and ks decides
-// between a diffuse bounce, a specular one and absorption, and the power is multiplied by kd or ks
-// without dividing by the probability. The progressive integrator's pass is photon_tracer.*.
+// The classic integrator's photon pass (docs/CAUSTICS.md, "photon emission" to "projection maps"):
+// the original renderer's caustic map and global-illumination (GI) map, rule for rule. Photons
+// leave each light's centre, one batch per cell of an icosahedral subdivision of the sphere; at
+// each hit the luma of kd and ks decides between a diffuse bounce, a specular one and absorption,
+// and the power is multiplied by kd or ks without dividing by the probability. The progressive
+// integrator's pass is photon_tracer.*.
 #pragma once
 
 #include "core/geometry/render_scene.h"
@@ -21,11 +22,11 @@ namespace caustica {
 
 class TextureSet;
 
-/// B4: a photon makes at most this many hits.
+/// "roulette": a photon makes at most this many hits.
 inline constexpr int classic_max_hits = 13;
-/// B4: a projection-map direction is used when its first hit has a material with Y(ks) above this.
+/// "projection maps": a direction is used when its first hit has a material with Y(ks) above this.
 inline constexpr double classic_projection_ks_luma = 0.2;
-/// B4: the emission cells: an icosahedron (20 faces) subdivided 8 times (4 children per level).
+/// "photon emission": the cells, an icosahedron (20 faces) subdivided 8 times (4 children a level).
 inline constexpr int classic_emission_levels = 8;
 inline constexpr long long classic_emission_cells = 20LL << (2 * classic_emission_levels);  // 1 310 720
 
@@ -52,8 +53,9 @@ struct ClassicPhotonSettings {
     bool build_projection_maps = false;  ///< build them even without caustic photons (--show-projection-map)
     std::uint64_t seed = 0;
     double memory_budget_bytes = 0.0;  ///< as PhotonPassSettings
-    /// Several ranks (issue 13): this rank shoots the emission blocks b with b % share_size ==
-    /// share_rank; merge_classic_photons puts the ranks' photons back in one process's order.
+    /// Several ranks (docs/SCALING.md): this rank shoots the emission blocks b with
+    /// b % share_size == share_rank; merge_classic_photons puts the ranks' photons back in one
+    /// process's order.
     int share_rank = 0, share_size = 1;
 };
 
@@ -103,17 +105,18 @@ void classic_emission_cell(long long cell, glm::dvec3& a, glm::dvec3& b, glm::dv
 /// Solid angle of the spherical triangle with unit vertices a, b, c.
 double spherical_triangle_solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
 
-/// B4 diffuse direction: at angle alpha from the mirror direction of unit `incoming` about unit
-/// `normal` (facing against `incoming`), with sin(alpha) = u1 and azimuth 2 pi u2. The lobe is not
-/// clipped: a direction below the surface is returned as it is (the photon goes on into the solid).
+/// "GI map" diffuse direction: at angle alpha from the mirror direction of unit `incoming` about
+/// unit `normal` (facing against `incoming`), with sin(alpha) = u1 and azimuth 2 pi u2. The lobe is
+/// not clipped: a direction below the surface is returned as it is (the photon goes on into the
+/// solid).
 glm::vec3 classic_diffuse_direction(const glm::vec3& incoming, const glm::vec3& normal, float u1, float u2);
 
-/// B4 projection-map test: a direction is used when its first hit has Y(ks) > 0.2; gr.air() counts
+/// "projection maps" test: a direction is used when its first hit has Y(ks) > 0.2; gr.air() counts
 /// (ks = 1), so the openings of cups and tubes are targets.
 bool classic_projection_target(const Material& m);
 
-/// Traces one photon of `kind` from `ray` with `power` by the B4 rules and appends what it stores
-/// to `out`. `textures` (may be null) gives kd(uv). Returns the hits it made (at most
+/// Traces one photon of `kind` from `ray` with `power` by the classic photon rules and appends what
+/// it stores to `out`. `textures` (may be null) gives kd(uv). Returns the hits it made (at most
 /// classic_max_hits, gr.air() surfaces included: they are dielectric interfaces).
 int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, ClassicMapKind kind, Ray ray,
                          glm::vec3 power, RandomStream& random, std::vector<Photon>& out);

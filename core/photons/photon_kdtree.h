@@ -1,6 +1,7 @@
-// Our photon k-D tree (seed 1.1.4): built in O(n log n) by median selection (nth_element, not a
-// sort), stored flat (one node array, photons reordered so every leaf is a contiguous run), with
-// N-nearest queries bounded by a maximum distance through a fixed-size max-heap.
+// Our photon k-D tree (docs/CAUSTICS.md, "The k-D tree"): built in O(n log n) by median selection
+// (nth_element, not a sort), stored flat (one node array, photons reordered so every leaf is a
+// contiguous run), with N-nearest queries bounded by a maximum distance through a fixed-size
+// max-heap.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -32,9 +33,9 @@ public:
     /// order (the farthest is `result[0]`); returns how many were found. `result` must hold `k`.
     std::uint32_t nearest(const glm::vec3& query, std::uint32_t k, float max_distance, Neighbour* result) const;
 
-    /// The classic search (SEED_BEHAVIOUR.md B5): always finds min(k, size()) points, in heap order
-    /// (the farthest is `result[0]`). Nearer side first; while fewer than k are held every point
-    /// visited is taken however far; once k are held a point replaces the farthest held when
+    /// The classic search (docs/CAUSTICS.md, "search"): always finds min(k, size()) points, in heap
+    /// order (the farthest is `result[0]`). Nearer side first; while fewer than k are held every
+    /// point visited is taken however far; once k are held a point replaces the farthest held when
     /// closer, and subtrees are pruned against min(prune_distance, farthest held). So the result is
     /// the exact k nearest whenever they all lie within prune_distance. `result` must hold `k`.
     std::uint32_t nearest_always(const glm::vec3& query, std::uint32_t k, float prune_distance,

@@ -1,4 +1,5 @@
-// The caustic photon map: stored photons in a k-D tree, and the radiance estimate (seed 1.1.3).
+// The caustic photon map: stored photons in a k-D tree, and the radiance estimate
+// (docs/CAUSTICS.md).
 #pragma once
 
 #include "core/photons/photon_kdtree.h"
@@ -18,11 +19,11 @@ struct Photon {
 
 /// How the N nearest photons are weighted in the estimate.
 enum class PhotonFilter {
-    none,  ///< the seed's plain disc average
+    none,  ///< the original's plain disc average
     cone,  ///< Jensen's cone filter, k = 1.1: w = 1 - d / (k r), normalised by 1 - 2 / (3k)
 };
 
-/// What the classic estimate found (SEED_BEHAVIOUR.md B5).
+/// What the classic estimate found (docs/CAUSTICS.md, "estimate").
 struct ClassicEstimate {
     glm::vec3 value{0.0f};      ///< Sum(power) / (pi r^2), 0 without photons or when r = 0
     std::uint32_t photons = 0;  ///< photons returned: min(k, size())
@@ -38,11 +39,12 @@ public:
     /// The photons, in tree order.
     const std::vector<Photon>& photons() const { return photons_; }
 
-    /// Irradiance-like estimate at a surface point with unit normal `n` (facing the viewer):
-    /// the power of the `k` nearest photons within `max_distance` arriving from the front side,
-    /// over the area of the disc holding them: pi r^2 with r the distance of the k-th photon
-    /// (seed 1.1.3). When fewer than k photons lie within max_distance, the disc searched
-    /// (radius max_distance) is used instead, so isolated photons do not make bright spots.
+    /// Irradiance-like estimate at a surface point with unit normal `n` (facing the viewer): the
+    /// power of the `k` nearest photons within `max_distance` arriving from the front side, over
+    /// the area of the disc holding them: pi r^2 with r the distance of the k-th photon
+    /// (docs/CAUSTICS.md, "The radiance estimate"). When fewer than k photons lie within
+    /// max_distance, the disc searched (radius max_distance) is used instead, so isolated photons do
+    /// not make bright spots.
     /// `scratch` must hold k entries.
     glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,
                        Neighbour* scratch) const;
@@ -54,7 +56,7 @@ public:
     glm::vec3 estimate(const glm::vec3& p, const glm::vec3& n, int k, float max_distance, PhotonFilter filter,
                        Neighbour* scratch, Probe& probe) const;
 
-    /// The classic radiance estimate (B5): the power of the min(k, size()) photons that
+    /// The classic radiance estimate ("estimate"): the power of the min(k, size()) photons that
     /// PhotonKdTree::nearest_always returns, over pi r^2 with r the largest distance among them.
     /// No filter, no side or normal test. `scratch` must hold k entries.
     ClassicEstimate classic_estimate(const glm::vec3& p, int k, float prune_distance, Neighbour* scratch) const;
@@ -66,7 +68,7 @@ public:
     glm::vec3 disc_estimate(const glm::vec3& p, const glm::vec3& n, float radius, glm::vec3* inner = nullptr) const;
 
     /// The photon nearest to `p` however far (null for an empty map); its distance goes to
-    /// `distance` when given. For the photon dot views (B6).
+    /// `distance` when given. For the photon dot views ("debug views").
     const Photon* nearest_photon(const glm::vec3& p, float* distance = nullptr) const;
 
     /// The photon at tree position i.

@@ -163,8 +163,9 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
             }
             continue;
         }
-        // Russian roulette decides what happens next (seed 1.1.1). Diffuse reflection ends a
-        // caustic path (the caustic map holds no diffuse bounce); so does absorption.
+        // Russian roulette decides what happens next (docs/CAUSTICS.md, "Photon paths"). Diffuse
+        // reflection ends a caustic path (the caustic map holds no diffuse bounce); so does
+        // absorption.
         const float xi = random.uniform();
         if (xi >= odds.diffuse + odds.specular) {  // absorbed
             b.depth = depth_limit + 1;
@@ -181,8 +182,8 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
             b.ray = Ray{hit.position, cosine_direction(n, u1, u2), eps, ray_infinity};
             continue;
         }
-        // A6: a reflection carries ks; a transmission carries nothing at the surface, the
-        // medium's ks^(d/d_u) is applied along the segment inside (above).
+        // The medium colour: a reflection carries ks; a transmission carries nothing at the
+        // surface, the medium's ks^(d/d_u) is applied along the segment inside (above).
         const glm::vec3 reflected_power = saturate(b.power * (ks / odds.specular));  // ks / odds is at most 3
         ++b.specular_bounces;
         if (!m.transparent) {

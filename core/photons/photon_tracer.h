@@ -1,6 +1,6 @@
-// The caustic photon pass (seed 1.1.1): photons leave each light with the seed's energy rule,
-// meet surfaces by Russian roulette, and are stored at their first diffuse hit after at least one
-// specular interaction (L S+ D paths), where their path ends.
+// The caustic photon pass (docs/CAUSTICS.md, "Photon paths"): photons leave each light with the
+// original's energy rule, meet surfaces by Russian roulette, and are stored at their first diffuse
+// hit after at least one specular interaction (L S+ D paths), where their path ends.
 #pragma once
 
 #include "core/shading/material.h"
@@ -39,7 +39,7 @@ struct PhotonPassSettings {
     /// follow both the reflected and the refracted photon (a weak branch still plays roulette).
     bool split = false;
     /// Every path with at least one bounce is stored at each diffuse hit and continues by a
-    /// Lambertian bounce (issue 11, --gi); no projection map. Otherwise caustic paths only.
+    /// Lambertian bounce (progressive --gi); no projection map. Otherwise caustic paths only.
     bool global_illumination = false;
     double memory_budget_bytes = 0.0;  ///< refuse passes whose photons could exceed this (0 = 60% of RAM)
     /// Progressive passes after the first reuse its projection maps: one per light (null = none).
@@ -67,12 +67,12 @@ struct PhotonPassResult {
     std::vector<LightPhotonReport> lights;
 };
 
-/// The seed's photon energy rule (seed 1.1.1): E = 4 pi d_u^2 C_light / (f_light P), with
-/// f_light the light's quadratic falloff coefficient and P the photons over the whole sphere;
-/// `fudge` scales it (--energy-fudge).
+/// The original's photon energy rule (docs/CAUSTICS.md, "Photon energy"):
+/// E = 4 pi d_u^2 C_light / (f_light P), with f_light the light's quadratic falloff coefficient and
+/// P the photons over the whole sphere; `fudge` scales it (--energy-fudge).
 glm::vec3 photon_energy(const Light& light, double unit_distance, long long photons, double fudge);
 
-/// Russian roulette at a surface (seed 1.1.1): P(diffuse) = mean(kd), P(specular) = mean(ks)
+/// Russian roulette at a surface ("Photon paths"): P(diffuse) = mean(kd), P(specular) = mean(ks)
 /// for mirrors and dielectrics (0 otherwise, air 1), absorption takes the rest.
 struct RouletteOdds {
     float diffuse = 0.0f, specular = 0.0f;

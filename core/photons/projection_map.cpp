@@ -56,7 +56,7 @@ void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light, bool
                 if (is_target) hits[static_cast<std::size_t>(row) * columns_ + column] = 1;
             }
     });
-    // Set the neighbours too, so that objects between sample directions are not missed (seed 1.1.2).
+    // Set the neighbours too, so that objects between sample directions are not missed.
     for (int row = 0; row < rows_; ++row)
         for (int column = 0; column < columns_; ++column) {
             if (!hits[static_cast<std::size_t>(row) * columns_ + column]) continue;

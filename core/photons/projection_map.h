@@ -1,6 +1,6 @@
-// Light projection maps (seed 1.1.2): a bit per cell of a polar (theta, phi) map of directions
-// around a light, set where a ray from the light hits a specular object (and around such cells),
-// so that photons are shot only where they can become caustics.
+// Light projection maps (docs/CAUSTICS.md, "Projection maps"): a bit per cell of a polar (theta,
+// phi) map of directions around a light, set where a ray from the light hits a specular object (and
+// around such cells), so that photons are shot only where they can become caustics.
 #pragma once
 
 #include "core/geometry/render_scene.h"

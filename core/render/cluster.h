@@ -1,6 +1,6 @@
-// Several processes rendering one frame (issue 13): the collective operations a render session
-// needs from its peers, behind one seam. The MPI implementation is app/mpi_cluster.*; tests use
-// make_local_cluster, threads standing in for ranks. core/ never includes MPI.
+// Several processes rendering one frame (docs/SCALING.md): the collective operations a render
+// session needs from its peers, behind one seam. The MPI implementation is app/mpi_cluster.*; tests
+// use make_local_cluster, threads standing in for ranks. core/ never includes MPI.
 //
 // Every rank runs the same render session on the same job. The sessions call the collectives
 // below in the same order; a rank whose local work failed still takes part, saying so, so that

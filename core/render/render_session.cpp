@@ -395,7 +395,7 @@ ShadingSetup RenderSession::make_setup() const {
     setup.ambient = glm::vec3(job_.ambient);
     setup.miss_colour = glm::vec3(job_.miss_colour);
     setup.sky = options.rays;
-    // A5: the sunburst's frame, right = view x up (up as written, normalised).
+    // The --rays sunburst's frame, right = view x up (up as written, normalised).
     const glm::dvec3 view = glm::normalize(job_.camera.view), up = glm::normalize(job_.camera.up);
     const glm::dvec3 right = glm::cross(view, up);
     if (glm::length(right) > 0.0) setup.view_right = glm::vec3(glm::normalize(right));

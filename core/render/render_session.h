@@ -160,12 +160,12 @@ public:
         preview_block_ = block > 0 && tile_size % block == 0 ? block : preview_block;
     }
 
-    /// Renders each job together with the other ranks of `cluster` (issue 13; null or one rank:
-    /// alone). Every rank's session must be given the same jobs in the same order and run them to
-    /// the end (batch rendering: no resume). Rank 0's image is the one a single process makes from
-    /// the same seeds; the other ranks' images are partial. A failure on any rank fails every rank
-    /// with that rank's message (ClusterError from wait()); an interruption on any rank interrupts
-    /// every rank.
+    /// Renders each job together with the other ranks of `cluster` (docs/SCALING.md; null or one
+    /// rank: alone). Every rank's session must be given the same jobs in the same order and run
+    /// them to the end (batch rendering: no resume). Rank 0's image is the one a single process
+    /// makes from the same seeds; the other ranks' images are partial. A failure on any rank fails
+    /// every rank with that rank's message (ClusterError from wait()); an interruption on any rank
+    /// interrupts every rank.
     void set_cluster(Cluster* cluster) { cluster_ = cluster; }
 
     /// The tiles of the current image.

@@ -95,7 +95,8 @@ struct RenderStats {
     std::vector<LightCausticStats> gi_lights;  ///< classic --gi: the GI pass of each light
     std::size_t gi_photons = 0, gi_map_bytes = 0;
     std::string integrator;                    ///< "classic" or "progressive"
-    /// Progressive passes (issue 11); passes = 0 when the render did not accumulate.
+    /// Progressive passes (docs/CAUSTICS.md, "Progressive photon mapping"); passes = 0 when the
+    /// render did not accumulate.
     struct Accumulation {
         int passes = 0;
         double first_radius = 0.0, radius = 0.0;  ///< geometric mean gather radius of the first and the last pass

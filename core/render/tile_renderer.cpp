@@ -94,7 +94,7 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
                 }
                 continue;
             }
-            // B3: the whole regular grid when g <= 2, else its four corner samples.
+            // Classic anti-aliasing: the whole regular grid when g <= 2, else its four corner samples.
             const float cell = 1.0f / static_cast<float>(g);
             glm::vec3 sum[8] = {};
             glm::vec3 corner[8][4];

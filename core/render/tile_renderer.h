@@ -38,15 +38,15 @@ bool has_antialiasing_pass(const TileContext& context);
 void render_coarse_tile(const TileContext& context, const Tile& tile, int block, Image& out, RayCounters& counters);
 
 /// The first samples of each pixel, 8 pixels per packet: one through the pixel centre
-/// (adaptive_neighbours), or B3's grid or its four corners (corner_grid).
+/// (adaptive_neighbours), or the classic anti-aliasing's grid or its four corners (corner_grid).
 void render_first_pass_tile(const TileContext& context, const Tile& tile, Image& out, RayCounters& counters);
 
 /// adaptive_neighbours: whether pixel (x, y) differs from a neighbour by more than the threshold
 /// (sum of |RGB| differences of the clamped colours).
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold);
 
-/// B3's difference of the four corner samples of a pixel: the sum over the 6 pairs of the
-/// squared RGB differences (unclamped).
+/// The classic anti-aliasing's difference of the four corner samples of a pixel: the sum over the 6
+/// pairs of the squared RGB differences (unclamped).
 float corner_difference(const glm::vec3 corners[4]);
 
 /// Replaces pixels that need it by the mean of all N x N samples (jittered for

@@ -1,5 +1,5 @@
 // The course's pinhole camera: eye, view direction, up vector, and gr.render's field of view,
-// which is the horizontal angle (SEED_BEHAVIOUR A7).
+// which is the horizontal angle (docs/SCENE_LANGUAGE.md, "camera angle").
 #pragma once
 
 #include "core/geometry/ray.h"
@@ -8,7 +8,7 @@
 namespace caustica {
 
 /// The vertical field of view of a width x height image, in degrees: gr.render's angle is the
-/// horizontal one and fov_y = fov_x / aspect, aspect = width / height (A7). Camera keeps the
+/// horizontal one and fov_y = fov_x / aspect, aspect = width / height. Camera keeps the
 /// angle it uses below 179 degrees (a tall image with a wide angle would reach 180).
 double vertical_fov_degrees(const CameraDesc& desc, int width, int height);
 

@@ -249,10 +249,11 @@ const std::vector<OptionSpec>& option_table() {
          [](const Options& o) { return std::to_string(o.shadow_grid); }}.feeds(stage_image),
         flag("rays", 0, "output", "orange sunburst background instead of the miss colour", &Options::rays)
             .feeds(stage_image),
-        flag("srgb", 0, "output", "encode sRGB in the PNG (default: clamped linear, as the seed)", &Options::srgb)
-            .feeds(stage_output),
+        flag("srgb", 0, "output", "encode sRGB in the PNG (default: clamped linear, as the original)",
+             &Options::srgb).feeds(stage_output),
         choice<Tonemap>("tonemap", "clamp|reinhard|filmic", "output",
-                        "PNG tone curve: clamp (the seed), x/(1+x), ACES fit (docs/OUTPUT.md); EXR, PFM stay linear",
+                        "PNG tone curve: clamp (the original's), x/(1+x), ACES fit (docs/OUTPUT.md); "
+                        "EXR, PFM stay linear",
                         &Options::tonemap,
                         {{"clamp", Tonemap::clamp}, {"reinhard", Tonemap::reinhard}, {"filmic", Tonemap::filmic}})
             .feeds(stage_output),
@@ -293,8 +294,8 @@ const std::vector<OptionSpec>& option_table() {
                                    {"on", ProjectionMapMode::on},
                                    {"off", ProjectionMapMode::off}}).feeds(stage_photons),
         choice<bool>("caustic-filter", "none|cone", "caustics",
-                     "radiance-estimate filter: the seed's disc average, or Jensen's cone", &Options::caustic_cone_filter,
-                     {{"none", false}, {"cone", true}}).feeds(stage_image),
+                     "radiance-estimate filter: the original's disc average, or Jensen's cone",
+                     &Options::caustic_cone_filter, {{"none", false}, {"cone", true}}).feeds(stage_image),
         choice<bool>("adaptive-radius", "on|off", "caustics",
                      "progressive: shrink or grow each pixel's gather radius after 8, 32, 128, ... passes so that "
                      "its blur and noise balance (off: one radius sequence for every pixel)",

@@ -15,13 +15,13 @@ namespace caustica {
 /// How projection maps are used when shooting caustic photons.
 enum class ProjectionMapMode { automatic, on, off };
 
-/// Which light transport renders the image (SEED_BEHAVIOUR.md Part B, or our own).
+/// Which light transport renders the image (the original's, docs/CAUSTICS.md, or our own).
 enum class IntegratorKind {
     classic,      ///< the original renderer's rules, rule for rule (the default)
     progressive,  ///< our physically motivated photon mapper
 };
 
-/// Every option of SCENE_API.md plus ours, with the seed's defaults.
+/// Every option of SCENE_API.md plus ours, with the original's defaults.
 struct Options {
     // conventions and reporting
     bool a4 = false;           ///< course conventions (pre-multiplied transforms, unit cube)
@@ -46,9 +46,9 @@ struct Options {
     bool gi = false;               ///< global-illumination photon map (classic)
     bool draw_gi_map = false;      ///< GI photons as dots (implies the GI map)
     bool draw_gi_only = false;     ///< only the GI estimate (implies the GI map)
-    bool srgb = false;             ///< encode sRGB in the PNG (default: clamp, linear, as the seed)
+    bool srgb = false;             ///< encode sRGB in the PNG (default: clamp, linear, as the original)
     int resolution_override = 0;   ///< --minres/--lores/--midres/--hires: square size, 0 = as scripted
-    Tonemap tonemap = Tonemap::clamp;  ///< --tonemap: PNG only (the default clamps, as the seed)
+    Tonemap tonemap = Tonemap::clamp;  ///< --tonemap: PNG only (the default clamps, as the original)
     double exposure = 0.0;         ///< --exposure: stops, every output format
     ExrPixel exr_pixel = ExrPixel::half;  ///< --exr-pixel: channel type of EXR output
     // values

@@ -53,7 +53,7 @@ void OrbitCamera::pan_pixels(glm::dvec2 pixels, int image_width, int image_heigh
     const glm::dvec3 right = glm::normalize(glm::cross(forward, up_));
     const glm::dvec3 up = glm::cross(right, forward);
     const double per_pixel = 2.0 * distance() * std::tan(glm::radians(vertical_fov_degrees(script_, image_width, image_height)) * 0.5) /
-                             image_height;  // A7: gr.render's angle is the horizontal one
+                             image_height;  // gr.render's angle is the horizontal one
     const glm::dvec3 delta = (-pixels.x * right + pixels.y * up) * per_pixel;
     eye_ += delta;
     target_ += delta;

@@ -67,7 +67,7 @@ struct TextureDesc {
     SourceLocation where;
 };
 
-/// Phong material with the seed's extensions (mirror, dielectric, air).
+/// Phong material with the original's extensions (mirror, dielectric, air).
 struct MaterialDesc {
     glm::dvec3 kd{0.0}, ks{0.0};
     double shininess = 0.0;
@@ -120,7 +120,7 @@ struct RenderJob {
     CameraDesc camera;
     glm::dvec3 ambient{0.0};
     std::vector<int> lights;             ///< indices into SceneDesc::lights
-    glm::dvec3 miss_colour{1.0};         ///< SEED_BEHAVIOUR.md A5: white unless gr.set_miss_colour
+    glm::dvec3 miss_colour{1.0};         ///< white unless gr.set_miss_colour (docs/SCENE_LANGUAGE.md)
     Options options;                     ///< defaults + gr.option calls made before this render
     SourceLocation where;
     /// Long option names ("caustic-num-photons") with the gr.option call that set them, in call

@@ -1,6 +1,6 @@
-// Resolves a render job's node DAG into world-space primitives: composes the transform calls in
-// the job's convention (seed: post-multiply; --a4: pre-multiply), resolves gr.cube's extent and
-// inherited materials, and checks every world transform.
+// Resolves a render job's node DAG into world-space primitives: composes the transform calls in the
+// job's convention (the original's: post-multiply; --a4: pre-multiply), resolves gr.cube's extent
+// and inherited materials, and checks every world transform.
 #pragma once
 
 #include "core/scene/scene_desc.h"
@@ -33,7 +33,7 @@ struct FlatCsgNode {
 
 /// A CSG object: the tree under a CSG node expanded to world space (a DAG reused inside the tree
 /// is copied per use). Groups and a node's children are implicit unions, later children
-/// winning where media overlap (seed 1.2).
+/// winning where media overlap (docs/SCENE_LANGUAGE.md, "CSG media").
 struct FlatCsgObject {
     int node = -1;                          ///< the CSG node that made it (for messages)
     std::vector<PlacedPrimitive> leaves;    ///< world transforms and inherited materials

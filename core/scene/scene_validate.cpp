@@ -187,7 +187,8 @@ void check_node(const NodeDesc& node, const SceneDesc& scene) {
     for (const TransformOp& op : node.transforms) check_transform(node, op);
 }
 
-/// The power of one caustic photon of a light (seed 1.1.3), in double so that it cannot overflow here.
+/// The power of one caustic photon of a light (docs/CAUSTICS.md, "Photon energy"), in double so
+/// that it cannot overflow here.
 void check_photon_power(const RenderJob& job, const LightDesc& l) {
     const Options& o = job.options;
     if (!(l.falloff.z > 0.0) || o.caustic_num_photons <= 0) return;  // no photons from this light

@@ -28,7 +28,8 @@ inline constexpr double min_refractive_index = 1e-6, max_refractive_index = 1e6;
 inline constexpr double max_shininess = 1e6;
 
 /// Largest power a caustic photon may start with (colour x 4 pi u^2 x fudge / (c2 x photons),
-/// seed 1.1.3): far above anything visible, and saturated sums of such powers stay finite.
+/// docs/CAUSTICS.md, "Photon energy"): far above anything visible, and saturated sums of such
+/// powers stay finite.
 inline constexpr double max_photon_power = 1e30;
 
 /// Checks the numeric options, camera, lights, materials, ambient and miss colours, node

@@ -8,7 +8,7 @@
 
 namespace caustica {
 
-/// The course's Phong material with the seed's mirror and dielectric extensions.
+/// The course's Phong material with the original's mirror and dielectric extensions.
 struct Material {
     glm::vec3 kd{0.0f}, ks{0.0f};
     float shininess = 0.0f;
@@ -16,7 +16,8 @@ struct Material {
     bool transparent = false;      ///< dielectric (set_ri) or air: Fresnel split of ks
     float refractive_index = 1.0f;
     bool air = false;              ///< gr.air(): an empty medium, index 1, no surface of its own
-    /// Colour of a transparent material's medium per unit distance (A6: its ks; air and opaque: 1).
+    /// Colour of a transparent material's medium per unit distance: its ks; air and opaque: 1
+    /// (docs/SCENE_LANGUAGE.md, "medium colour").
     glm::vec3 medium_colour{1.0f};
 
     /// Converts the scene description's material.

@@ -9,8 +9,8 @@
 
 namespace caustica {
 
-/// Fraction of specular light reflected at a dielectric interface (seed 1.3): the unpolarised
-/// average of the s and p Fresnel ratios,
+/// Fraction of specular light reflected at a dielectric interface (docs/SCENE_LANGUAGE.md,
+/// "Materials and media"): the unpolarised average of the s and p Fresnel ratios,
 ///   R = 1/2 [ ((n1 cos_i - n2 cos_t) / (n1 cos_i + n2 cos_t))^2
 ///           + ((n2 cos_i - n1 cos_t) / (n2 cos_i + n1 cos_t))^2 ].
 /// Returns 1 under total internal reflection. cos_i is the cosine of the incident angle (>= 0).
@@ -39,9 +39,9 @@ inline bool refract_direction(const glm::vec3& d, const glm::vec3& n, float n1, 
 
 /// Beer-Lambert transmittance of a coloured medium over a distance: the medium keeps the
 /// fraction `colour` of each channel per unit distance, T = colour^(distance / unit_distance).
-/// The colour is the material's ks (SEED_BEHAVIOUR.md A6): ks = 0 lets nothing through, white
-/// (and air) is clear. A colour above 1 amplifies: the result is capped at max_colour_value so
-/// that it multiplies a saturated radiance without overflow (radiance_range.h).
+/// The colour is the material's ks (docs/SCENE_LANGUAGE.md, "medium colour"): ks = 0 lets nothing
+/// through, white (and air) is clear. A colour above 1 amplifies: the result is capped at
+/// max_colour_value so that it multiplies a saturated radiance without overflow (radiance_range.h).
 inline glm::vec3 medium_transmittance(const glm::vec3& colour, float distance, float unit_distance) {
     if (colour == glm::vec3(1.0f)) return colour;
     if (!std::isfinite(distance)) return glm::vec3(colour.x >= 1.0f, colour.y >= 1.0f, colour.z >= 1.0f);

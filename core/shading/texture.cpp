@@ -12,7 +12,7 @@ namespace caustica {
 namespace {
 
 /// How far a PNG bump map tilts the normal: n' = normalise(n + 5 g_x U + 5 g_y V), g in intensity
-/// per pixel (SEED_BEHAVIOUR A4).
+/// per pixel (docs/TEXTURES.md, "Bump maps").
 constexpr float bump_image_strength = 5.0f;
 
 /// One texture or bump map of the scene, ready to be looked up.
@@ -126,7 +126,7 @@ glm::vec3 TextureSet::diffuse(int material, const SurfaceHit& hit, const glm::ve
 glm::vec3 TextureSet::shading_normal(int material, const SurfaceHit& hit, const glm::vec3& normal) const {
     const Impl::Binding* binding = impl_->binding(material);
     if (!binding || !binding->bumpmap) return normal;
-    if (hit.shape_kind < 0) return normal;  // meshes have no tangents (SEED_BEHAVIOUR A2)
+    if (hit.shape_kind < 0) return normal;  // meshes have no tangents (docs/TEXTURES.md)
     const Source& source = *binding->bumpmap;
     const TextureLookup lookup = texture_lookup(hit, source.remap);
     if (!lookup.covered) return normal;

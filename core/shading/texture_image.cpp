@@ -12,7 +12,7 @@
 namespace caustica {
 namespace {
 
-/// The luma the original uses wherever a colour becomes a number (SEED_BEHAVIOUR notation).
+/// The luma the original uses wherever a colour becomes a number (docs/CAUSTICS.md, "luma").
 float luma(const glm::vec3& c) { return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b; }
 
 /// floor(clamp(x, 0, size - 1)), with NaN read as 0.

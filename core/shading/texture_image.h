@@ -1,5 +1,5 @@
 // Image textures: PNG texels as linear RGB, nearest-texel lookups, the bump-map gradient, and the
-// process-wide image cache. The rules are in docs/TEXTURES.md (SEED_BEHAVIOUR A4).
+// process-wide image cache. The rules are in docs/TEXTURES.md.
 #pragma once
 
 #include <glm/glm.hpp>

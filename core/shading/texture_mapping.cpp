@@ -45,7 +45,7 @@ TextureLookup remap_uv(glm::vec2 uv, TextureRemap remap) {
 }
 
 TextureLookup texture_lookup(const SurfaceHit& hit, TextureRemap remap) {
-    const glm::vec2 uv = hit.shape_kind < 0 ? glm::vec2(0.0f) : hit.uv;  // meshes: no uv (A2)
+    const glm::vec2 uv = hit.shape_kind < 0 ? glm::vec2(0.0f) : hit.uv;  // meshes have no uv
     return remap_uv(uv, remap);
 }
 

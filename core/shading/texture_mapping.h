@@ -1,6 +1,6 @@
 // Where a surface hit looks up a texture or bump map: the primitive's uv (shape_uv; meshes have
 // none) and the remaps (tex:remapt, bump:remap), which keep one uv window and stretch it to the
-// whole image. docs/TEXTURES.md draws every layout (SEED_BEHAVIOUR A2, A3).
+// whole image. docs/TEXTURES.md draws every layout ("Primitives: uv and bump tangents", "Remaps").
 #pragma once
 
 #include "core/geometry/ray.h"

@@ -1,5 +1,5 @@
 // The procedural textures (checkerboards) and bump map (sine ripples) that scenes name.
-// Their exact definitions are in docs/TEXTURES.md (SEED_BEHAVIOUR A4).
+// Their exact definitions are in docs/TEXTURES.md ("Procedural textures", "Bump maps").
 #pragma once
 
 #include <glm/glm.hpp>

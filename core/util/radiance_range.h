@@ -32,7 +32,7 @@ inline float saturate(float x) { return x > max_radiance ? max_radiance : x; }
 inline glm::vec3 saturate(const glm::vec3& v) { return {saturate(v.x), saturate(v.y), saturate(v.z)}; }
 
 /// Caps a value of either sign at +-max_radiance: the classic integrator's terms carry n.v
-/// unflipped (SEED_BEHAVIOUR.md B1, B5) and go negative on surfaces seen from behind.
+/// unflipped (docs/CAUSTICS.md, "normals", "estimate") and go negative on surfaces seen from behind.
 inline float saturate_signed(float x) { return x < -max_radiance ? -max_radiance : saturate(x); }
 
 /// saturate_signed per component.

@@ -1,6 +1,7 @@
-// Animations of `caustica render` (issue 13): --frames and --orbit-frames parsed and refused with
-// clear messages, the frames and files they make, orbit cameras (frame 1 is the script's camera
-// bit for bit, the others turned about up around the target), and one run of the binary.
+// Animations of `caustica render` (docs/ANIMATION.md): --frames and --orbit-frames parsed and
+// refused with clear messages, the frames and files they make, orbit cameras (frame 1 is the
+// script's camera bit for bit, the others turned about up around the target), and one run of the
+// binary.
 #include "app/animation.h"
 #include "core/io/png_io.h"
 #include "core/scene/orbit_camera.h"

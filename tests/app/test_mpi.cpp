@@ -1,4 +1,4 @@
-// `caustica render` under mpirun (issue 13), real processes on this machine: K ranks make one
+// `caustica render` under mpirun (docs/SCALING.md), real processes on this machine: K ranks make one
 // process's image bit for bit (both integrators, --reproducible), share whole frames of an
 // animation, stop together with the failing rank's message, and stop together on Ctrl-C with
 // nothing written. Skipped, saying why, where caustica was built without MPI.

@@ -1,6 +1,6 @@
-// CSG media and materials (SEED_BEHAVIOUR.md A6): the interfaces a union records, the material
-// and medium of surfaces a difference carves, which hits are on CSG objects; and renders of CSG
-// objects (invariances). The interval algebra and geometry: test_csg.cpp.
+// CSG media and materials (docs/SCENE_LANGUAGE.md, "CSG media"): the interfaces a union records,
+// the material and medium of surfaces a difference carves, which hits are on CSG objects; and
+// renders of CSG objects (invariances). The interval algebra and geometry: test_csg.cpp.
 #include "core/geometry/csg_intervals.h"
 #include "core/geometry/render_scene.h"
 #include "core/integrators/progressive.h"
@@ -196,7 +196,7 @@ TEST(CsgScene, DifferenceShadesTheCarvedHollowWithTheSubtractedMaterial) {
 }
 
 TEST(CsgScene, TransparentSubtractedOperandIsTheMediumBehindTheCarvedSurface) {
-    // A6: the path that re-enters A - B through B's surface is tinted by B.
+    // The path that re-enters A - B through B's surface is tinted by B.
     JobBuilder b(8, 8);
     const int glass_m = dielectric(b, {0, 0, 0}, 1.5), green_m = dielectric(b, {0, 0.5, 0}, 1.33);
     const RenderScene scene = cube_minus_ball(b, glass_m, green_m);

@@ -115,8 +115,8 @@ TEST(Cylinder, SideAndCaps) {
 }
 
 TEST(Cone, ApexUpBaseDown) {
-    // Height 1 (SEED_BEHAVIOUR A2): apex at y = 1/2, base radius 1 at y = -1/2, radius 1/2 - y.
-    // (Was apex y = 1, base y = -1, radius (1 - y)/2: the values below changed with the rule.)
+    // Height 1 (docs/SCENE_LANGUAGE.md, "cone"): apex at y = 1/2, base radius 1 at y = -1/2,
+    // radius 1/2 - y.
     ShapeInterval iv;
     // Horizontal through y = 0: radius 1/2 - 0 = 0.5.
     ASSERT_TRUE(intersect_shape_interval(cone, {-5, 0, 0}, {1, 0, 0}, iv));
@@ -157,8 +157,7 @@ TEST(ShapeUv, ParametersStayInTheUnitSquare) {
             EXPECT_LE(uv.y, 1.0f);
         }
     }
-    // v = (1 + y) / 2 (SEED_BEHAVIOUR A2): the north pole is the image's top row, v = 1 (was 0
-    // when v ran from the top of the image down).
+    // v = (1 + y) / 2 (docs/TEXTURES.md): the north pole is the image's top row, v = 1.
     EXPECT_NEAR(shape_uv(unit_sphere, {0, 1, 0}, 0).y, 1.0f, 1e-6f);
     EXPECT_NEAR(shape_uv(unit_sphere, {0, -1, 0}, 0).y, 0.0f, 1e-6f);
 }

@@ -43,7 +43,7 @@ std::unique_ptr<RenderScene> build_scene(const RenderJob& job) {
 
 /// A glass tube (outer radius 1, wall 0.2, y from -40 to 30) holding a liquid below y = 0 under an
 /// air hollow that opens above the rim. No light, no ambient, a black sky: whatever the camera
-/// sees comes from rays trapped in the wall until depth 16, which return white (B1).
+/// sees comes from rays trapped in the wall until depth 16, which return white ("deep rays").
 std::string tube_scene(double glass_ks, const std::string& camera) {
     char text[2048];
     std::snprintf(text, sizeof text, R"(
@@ -81,12 +81,12 @@ double mean(const Image& image) {
 
 }  // namespace
 
-// B1: a view ray enters the rim of the tube at 60 degrees and is trapped in the wall by total
-// internal reflection against the outside and against the air hollow. With the material
-// entered, those reflections carry ks_to = 1 (air), so the ray reaches depth 16 and returns
-// white weighted only by its entry: (1 - R) ks^(d1/d_u), d1 the first segment in the glass.
-// With the surface owner's ks the eight reflections off the glass's own outer wall would each
-// cost 0.95 more (0.66 in all).
+// "deep rays": a view ray enters the rim of the tube at 60 degrees and is trapped in the wall by
+// total internal reflection against the outside and against the air hollow. With the material
+// entered, those reflections carry ks_to = 1 (air), so the ray reaches depth 16 and returns white
+// weighted only by its entry: (1 - R) ks^(d1/d_u), d1 the first segment in the glass. With the
+// surface owner's ks the eight reflections off the glass's own outer wall would each cost 0.95 more
+// (0.66 in all).
 TEST(ClassicMaterialEntered, TotalInternalReflectionAgainstAirIsLossless) {
     const double ks = 0.95, sin_i = std::sqrt(3.0) / 2.0, cos_i = 0.5;
     // Rim point (0.9, 30, 0); the ray comes from +x, in the plane z = 0.
@@ -109,9 +109,9 @@ TEST(ClassicMaterialEntered, TotalInternalReflectionAgainstAirIsLossless) {
     EXPECT_GT(expected * std::pow(ks, 8.0), 0.0);  // (the owner's rule: 0.66 of this)
 }
 
-// B1 on the whole image: a tube seen from above at 60 degrees, lit only by depth-16 returns. The
-// original measured the same mean with glass ks 0.95 and 1 (0.0029 both; the owner's ks gave
-// 0.0019 with 0.95): with the material entered only the entry segment and the liquid cost
+// "deep rays" on the whole image: a tube seen from above at 60 degrees, lit only by depth-16
+// returns. The original measured the same mean with glass ks 0.95 and 1 (0.0029 both; the owner's
+// ks gave 0.0019 with 0.95): with the material entered only the entry segment and the liquid cost
 // anything, so lowering the glass's ks by 5% lowers the mean by a few percent at most.
 TEST(ClassicMaterialEntered, ATubeLitByDepthSixteenKeepsItsBrightnessWhenTheGlassDarkens) {
     const std::string camera =
@@ -199,15 +199,14 @@ double cup_transmission(double theta, Medium medium) {
 
 }  // namespace
 
-// B4 + the projection map: photons that enter the cup through its open top cross air (a hit
-// with P(specular) = 1 that costs nothing), the hollow's floor into the glass (odds and power
-// Y(ks) and ks of the glass entered, Fresnel 1 -> 1.5) and the glass's underside into the
-// outside (free, Fresnel 1.5 -> 1), and are stored on the floor. The floor within 0.4 of the axis
-// is reached only that way (a photon glancing off the hollow's wall lands beyond 0.6), so the
-// photons stored there number N (Omega / 4 pi) Y(ks) T, Omega the cone of directions that land
-// there and T the two Fresnel transmissions (with the small return between the two faces). The
-// opening is a projection-map target (air counts), so the map changes no photon. (Before, air
-// was skipped and was a target of nothing: the photons through the opening were left unshot.)
+// "roulette" and "projection maps": photons that enter the cup through its open top cross air (a
+// hit with P(specular) = 1 that costs nothing), the hollow's floor into the glass (odds and power
+// Y(ks) and ks of the glass entered, Fresnel 1 -> 1.5) and the glass's underside into the outside
+// (free, Fresnel 1.5 -> 1), and are stored on the floor. The floor within 0.4 of the axis is
+// reached only that way (a photon glancing off the hollow's wall lands beyond 0.6), so the photons
+// stored there number N (Omega / 4 pi) Y(ks) T, Omega the cone of directions that land there and T
+// the two Fresnel transmissions (with the small return between the two faces). The opening is a
+// projection-map target (air counts), so the map changes no photon.
 TEST(ClassicAirInterfaces, PhotonsThroughACupsOpeningReachTheFloorByTheRules) {
     const double ks = 0.9;
     {
@@ -235,9 +234,9 @@ TEST(ClassicAirInterfaces, PhotonsThroughACupsOpeningReachTheFloorByTheRules) {
     EXPECT_NEAR(static_cast<double>(stored), expected, 0.003 * expected + 4.0 * std::sqrt(expected));
 }
 
-// B4: entering air is a hit (among the 13) where the photon goes on with P(specular) = 1 and its
-// power unchanged (air meets air: R = 0). A photon shot straight down through six air slabs (12
-// surfaces) is stored on the floor with its power unchanged, at its 13th hit; through seven it
+// "roulette": entering air is a hit (among the 13) where the photon goes on with P(specular) = 1
+// and its power unchanged (air meets air: R = 0). A photon shot straight down through six air slabs
+// (12 surfaces) is stored on the floor with its power unchanged, at its 13th hit; through seven it
 // never gets there.
 TEST(ClassicAirInterfaces, AirSurfacesCountAmongTheThirteenHits) {
     for (int slabs : {6, 7}) {
@@ -279,7 +278,8 @@ root:add_child(floor)
     }
 }
 
-// B4's projection map counts gr.air() as a target (ks = 1): a light above a lone air box.
+// "projection maps": the classic map counts gr.air() as a target (ks = 1): a light above a lone air
+// box.
 TEST(ClassicAirInterfaces, TheProjectionMapAimsAtAir) {
     Material air;
     air.air = air.transparent = true;

@@ -1,6 +1,6 @@
-// The classic integrator against SEED_BEHAVIOUR.md Part B (and the Part A rules both integrators
-// share), rule by rule: each test's expected value is the closed form of its rule, and each
-// would fail without that rule.
+// The classic integrator against docs/CAUSTICS.md, "The two integrators, rule by rule" (and the
+// rules of docs/SCENE_LANGUAGE.md that both integrators share), rule by rule: each test's expected
+// value is the closed form of its rule, and each would fail without that rule.
 #include "core/geometry/render_scene.h"
 #include "core/integrators/classic.h"
 #include "core/integrators/progressive.h"
@@ -44,7 +44,8 @@ void expect_colour(const glm::vec3& got, const glm::vec3& want, float tolerance,
 
 }  // namespace
 
-// A5: colour = A kd + C [kd + ks max(r.v,0)^p (n.l)] (n.l) / (c0 + c1 d + c2 d^2), d = |L - P| / d_u.
+// "Phong": colour = A kd + C [kd + ks max(r.v,0)^p (n.l)] (n.l) / (c0 + c1 d + c2 d^2),
+// d = |L - P| / d_u.
 TEST(SceneLanguagePhong, SpecularCarriesNdotLSquaredAndFalloffIsInUnitDistances) {
     for (IntegratorKind kind : {IntegratorKind::classic, IntegratorKind::progressive}) {
         JobBuilder b(1, 1);
@@ -61,7 +62,7 @@ TEST(SceneLanguagePhong, SpecularCarriesNdotLSquaredAndFalloffIsInUnitDistances)
     }
 }
 
-// A5: the default miss colour is white; --rays shows the orange sunburst.
+// "background": the default miss colour is white; --rays shows the orange sunburst.
 TEST(SceneLanguageBackground, MissIsWhiteByDefaultAndRaysShowsTheSunburst) {
     for (IntegratorKind kind : {IntegratorKind::classic, IntegratorKind::progressive}) {
         JobBuilder b(1, 1);
@@ -103,15 +104,16 @@ JobBuilder mirror_corridor(double ks, double kd, double ambient) {
 
 }  // namespace
 
-// B1: a ray deeper than 15 that hits something returns white: 16 mirror reflections of ks = 0.9.
+// "deep rays": a ray deeper than 15 that hits something returns white: 16 mirror reflections of
+// ks = 0.9.
 TEST(ClassicViewRays, DepthAboveFifteenReturnsWhite) {
     JobBuilder b = mirror_corridor(0.9, 0.0, 0.0);
     const float expected = std::pow(0.9f, 16.0f);
     expect_colour(render_one_pixel(b, IntegratorKind::classic), glm::vec3(expected), 1e-5f, "0.9^16 x white");
 }
 
-// B1: a reflection is traced only while weight Y(ks) > 0.02: with ks = 0.7 the ray at depth 10
-// is the last, and each hit adds its ambient kd A weighted by 0.7^depth.
+// "view-ray cut": a reflection is traced only while weight Y(ks) > 0.02: with ks = 0.7 the ray at
+// depth 10 is the last, and each hit adds its ambient kd A weighted by 0.7^depth.
 TEST(ClassicViewRays, LumaWeightCutsReflectionsBelowTwoPercent) {
     JobBuilder b = mirror_corridor(0.7, 0.1, 1.0);
     float expected = 0.0f;
@@ -165,8 +167,9 @@ JobBuilder tinted_slab(glm::dvec3 tint, double gap, bool csg, double scale = 1.0
 
 }  // namespace
 
-// A6 + B1: a transmitted view ray carries (1 - R) ks^(d/d_u); for a plain (non-CSG) object the
-// segment after leaving it is still coloured by its own ks, up to the next surface.
+// "medium colour" and "media": a transmitted view ray carries (1 - R) ks^(d/d_u); for a plain
+// (non-CSG) object the segment after leaving it is still coloured by its own ks, up to the next
+// surface.
 TEST(ClassicMedia, PlainObjectColoursTheSegmentsOnBothSides) {
     const glm::dvec3 tint(0.5, 0.8, 1.0);
     JobBuilder b = tinted_slab(tint, 1.0, false);
@@ -175,7 +178,7 @@ TEST(ClassicMedia, PlainObjectColoursTheSegmentsOnBothSides) {
     expect_colour(render_one_pixel(b, IntegratorKind::classic), expected, 1e-4f, "ks^(0.5 + 1)");
 }
 
-// A6: inside a CSG the far side's material colours the segment: air after leaving.
+// "CSG media": inside a CSG the far side's material colours the segment: air after leaving.
 TEST(ClassicMedia, CsgInterfaceColoursOnlyTheInside) {
     JobBuilder b = tinted_slab({0.5, 0.8, 1.0}, 1.0, true);
     const glm::vec3 expected(std::pow(0.5f, 0.5f), std::pow(0.8f, 0.5f), 1.0f);
@@ -193,8 +196,9 @@ TEST(ClassicMedia, ScaleInvarianceWithTheUnitDistanceInBothIntegrators) {
     }
 }
 
-// B2: a regular N x N grid of directions over the square of half-width sin(theta) (no jitter,
-// no disc): with the blocker's edge between the first and second columns, exactly 1/4 is hidden.
+// "soft shadows": a regular N x N grid of directions over the square of half-width sin(theta) (no
+// jitter, no disc): with the blocker's edge between the first and second columns, exactly 1/4 is
+// hidden.
 TEST(ClassicShadows, RegularGridOverTheSquareWithoutJitter) {
     JobBuilder b(8, 8);
     const int slab = b.add(NodeKind::cube, b.material({0, 0, 0}));
@@ -251,14 +255,15 @@ glm::vec3 render_aa(JobBuilder& b) {
 
 }  // namespace
 
-// B3: above g = 2 the four corners decide; equal corners leave the pixel at their mean even if
-// the middle samples differ.
+// "anti-aliasing": above g = 2 the four corners decide; equal corners leave the pixel at their mean
+// even if the middle samples differ.
 TEST(ClassicAntialiasing, FourEqualCornersAreThePixel) {
     JobBuilder b = stripe(1);  // only the middle column is white
     expect_colour(render_aa(b), glm::vec3(0.0f), 0.0f, "corners all black");
 }
 
-// B3: differing corners (delta = 4 pairs x 3 = 12 > 0.5) trace the rest and average all g^2.
+// "anti-aliasing": differing corners (delta = 4 pairs x 3 = 12 > 0.5) trace the rest and average
+// all g^2.
 TEST(ClassicAntialiasing, DifferingCornersAverageTheWholeRegularGrid) {
     JobBuilder b = stripe(0);  // the left column is white: 3 of 9 samples
     expect_colour(render_aa(b), glm::vec3(1.0f / 3.0f), 1e-6f, "3 of 9");
@@ -270,7 +275,7 @@ TEST(ClassicAntialiasing, DifferingCornersAverageTheWholeRegularGrid) {
     expect_colour(render_aa(high), glm::vec3(0.5f), 1e-6f, "2 of 4 corners");
 }
 
-// B3: g <= 2 is the mean of all g^2 regular samples.
+// "anti-aliasing": g <= 2 is the mean of all g^2 regular samples.
 TEST(ClassicAntialiasing, SmallGridsAverageEverySample) {
     glm::vec3 corners[4] = {{1, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     EXPECT_FLOAT_EQ(corner_difference(corners), 3.0f);  // three pairs differ by 1 in red
@@ -279,7 +284,7 @@ TEST(ClassicAntialiasing, SmallGridsAverageEverySample) {
     expect_colour(render_aa(b), glm::vec3(0.5f), 1e-6f, "2 of 4");
 }
 
-// B1 leaves open what colours a transmitted segment that hits nothing: we attenuate nothing
+// "media" leaves open what colours a transmitted segment that hits nothing: we attenuate nothing
 // there (an infinite ks^d would turn everything seen through a tinted plain object black).
 TEST(ClassicMedia, ASegmentLeavingTheSceneIsNotAttenuated) {
     JobBuilder b = tinted_slab({0.5, 0.8, 1.0}, 1.0, false);
@@ -291,7 +296,7 @@ TEST(ClassicMedia, ASegmentLeavingTheSceneIsNotAttenuated) {
     expect_colour(render_one_pixel(b, IntegratorKind::classic), expected, 1e-4f, "ks^0.5 x white");
 }
 
-// A9: --shadow-grid also turns soft shadows on.
+// "option defaults": --shadow-grid also turns soft shadows on.
 TEST(ClassicShadows, ShadowGridTurnsSoftShadowsOn) {
     Options o;
     apply_option_tokens(o, {"--no-soft-shadows", "--shadow-grid", "4"});

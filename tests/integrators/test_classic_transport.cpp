@@ -1,7 +1,7 @@
-// The classic integrator's photon terms (SEED_BEHAVIOUR.md B4-B6) end to end: the caustic of a
-// known scene against the closed form the rules give, the gates of the estimate, the GI term and
-// the GI map of a closed room, each debug view on photons placed by hand, and switching
-// integrator in a session.
+// The classic integrator's photon terms (docs/CAUSTICS.md, "photon emission" to "debug views")
+// end to end: the caustic of a known scene against the closed form the rules give, the gates of
+// the estimate, the GI term and the GI map of a closed room, each debug view on photons placed by
+// hand, and switching integrator in a session.
 #include "core/geometry/render_scene.h"
 #include "core/integrators/classic.h"
 #include "core/photons/caustic_stage.h"
@@ -71,8 +71,8 @@ const float n_dot_v = std::sqrt(0.5f);
 
 }  // namespace
 
-// B5: E = Sum(power) / (pi r^2) over the k returned, r the farthest; the term is E (n.v), kd not
-// applied again; only with more than 50 photons in the map and Y(kd) > 0.2.
+// "estimate": E = Sum(power) / (pi r^2) over the k returned, r the farthest; the term is E (n.v),
+// kd not applied again; only with more than 50 photons in the map and Y(kd) > 0.2.
 TEST(ClassicEstimate, CausticTermAndItsGates) {
     const glm::vec3 power(0.001f, 0.002f, 0.003f);
     const glm::vec3 e = 5.0f * power / (pi * 0.05f * 0.05f);
@@ -91,7 +91,7 @@ TEST(ClassicEstimate, CausticTermAndItsGates) {
     EXPECT_EQ(dull.colour(), glm::vec3(0.0f));
 }
 
-// B5: the search always returns k photons: far ones make a wide, dim disc, not nothing.
+// "search": the search always returns k photons: far ones make a wide, dim disc, not nothing.
 TEST(ClassicEstimate, FarPhotonsStillCount) {
     std::vector<Photon> photons;
     for (int i = 0; i < 60; ++i) photons.push_back({glm::vec3(1.0f + 0.1f * static_cast<float>(i), 0, 0), glm::vec3(1.0f), glm::vec3(0, -1, 0)});
@@ -102,7 +102,7 @@ TEST(ClassicEstimate, FarPhotonsStillCount) {
     EXPECT_NEAR(view.colour().x, 5.0f / (pi * r * r) * n_dot_v, 1e-4f);
 }
 
-// B5: the GI estimate replaces the ambient term: A = kd E_gi (n.v).
+// "GI term": the GI estimate replaces the ambient term: A = kd E_gi (n.v).
 TEST(ClassicEstimate, GiReplacesTheAmbient) {
     const glm::vec3 power(0.001f);
     FloorView view(0.5);
@@ -115,8 +115,8 @@ TEST(ClassicEstimate, GiReplacesTheAmbient) {
     EXPECT_NEAR(view.colour().x, 0.5f * e * n_dot_v, 1e-5f);
 }
 
-// B6: --draw-caustics-only shows the raw E (no n.v) where Y(kd) > 0.2 and black elsewhere;
-// --draw-gi-only the same on the GI map.
+// "debug views": --draw-caustics-only shows the raw E (no n.v) where Y(kd) > 0.2 and black
+// elsewhere; --draw-gi-only the same on the GI map.
 TEST(ClassicDebugViews, EstimateOnlyViews) {
     const glm::vec3 power(0.001f, 0.002f, 0.003f);
     const PhotonMap many = photons_around_origin(51, power);
@@ -137,8 +137,8 @@ TEST(ClassicDebugViews, EstimateOnlyViews) {
     EXPECT_NEAR(gi.colour().y, 5.0f * 0.002f / (pi * 0.05f * 0.05f), 1e-4f);
 }
 
-// B6: --draw-caustic-map shows the nearest photon within 0.01 world units, normalised to unit
-// length; black beyond it and where Y(kd) < 0.2. --draw-gi-map the same on the GI map.
+// "debug views": --draw-caustic-map shows the nearest photon within 0.01 world units, normalised to
+// unit length; black beyond it and where Y(kd) < 0.2. --draw-gi-map the same on the GI map.
 TEST(ClassicDebugViews, PhotonDotViews) {
     const glm::vec3 power(0.3f, 0.4f, 0.0f);
     const PhotonMap near = photons_around_origin(10, power, 0.005f);
@@ -161,10 +161,10 @@ TEST(ClassicDebugViews, PhotonDotViews) {
     }
 }
 
-// B4 + B5 end to end: the virtual-light scene (a point light over a mirror of ks 0.9, its
-// direct light blocked, a ceiling of kd 0.8 lit only through the mirror). A photon reaching
-// the ceiling chose specular at the mirror with P = Y(ks) and kept power ks, not ks / P, and is
-// stored with power x kd: the caustic term is
+// Photons and estimate end to end: the virtual-light scene (a point light over a mirror of ks 0.9,
+// its direct light blocked, a ceiling of kd 0.8 lit only through the mirror). A photon reaching the
+// ceiling chose specular at the mirror with P = Y(ks) and kept power ks, not ks / P, and is stored
+// with power x kd: the caustic term is
 //   (shot / N) Y(ks) ks kd C d_u^2 cos(theta) / (c2 d^2) x (n.v),
 // d and theta from the mirror image of the light, shot / N the emission cells' shortfall (at
 // N = 24 M each cell holds about 18 photons, so the floor's loss is nearly uniform over the sky).
@@ -230,7 +230,7 @@ TEST(ClassicTransport, SwitchingIntegratorKeepsTheSceneAndRedoesThePhotons) {
 }
 
 
-// B4's projection map only saves time: the classic pass skips whole emission cells the map
+// The classic projection map only saves time: the classic pass skips whole emission cells the map
 // cannot reach (and then single directions), and stores exactly the photons it stores without it.
 TEST(ClassicTransport, ProjectionMapSkipsCellsWithoutChangingThePhotons) {
     JobBuilder b = caustica::testing::virtual_light_scene(false);
@@ -312,12 +312,12 @@ gr.render(root, 'x.png', 4, 4, {0, 0, 0.5}, {0, 0, -1}, {0, 1, 0}, 30, {0, 0, 0}
 }
 
 /// The share of the emitted energy the GI map stores in a closed diffuse sphere with the light at
-/// its centre, by B4: a photon hits the wall at normal incidence, chooses diffuse with P = rho
-/// (power x rho, not divided by P) and leaves at angle alpha from the mirror direction, sin alpha
-/// uniform; every later hit stores power x rho, and hits 1..13 are all it makes. In a sphere the
-/// next hit's incidence equals the leaving angle, so only the angle to the normal matters:
-/// cos b' = cos a cos b + sin a sin b cos phi. A direction with cos b' < 0 leaves the sphere
-/// (`clipped`: mirrored back in). Integrated here by an independent Monte Carlo.
+/// its centre, by the classic rules: a photon hits the wall at normal incidence, chooses diffuse
+/// with P = rho (power x rho, not divided by P) and leaves at angle alpha from the mirror
+/// direction, sin alpha uniform; every later hit stores power x rho, and hits 1..13 are all it
+/// makes. In a sphere the next hit's incidence equals the leaving angle, so only the angle to the
+/// normal matters: cos b' = cos a cos b + sin a sin b cos phi. A direction with cos b' < 0 leaves
+/// the sphere (`clipped`: mirrored back in). Integrated here by an independent Monte Carlo.
 double gi_share(double rho, bool clipped) {
     std::mt19937_64 rng(42);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -346,9 +346,9 @@ double gi_share(double rho, bool clipped) {
 
 }  // namespace
 
-// B4: the diffuse lobe is not clipped. In a closed grey sphere around the light, the GI map's
-// stored power, and the GI estimate anywhere on the wall (the photons lie evenly: total over
-// 4 pi R^2), follow the unclipped lobe; turning directions back would keep several percent more.
+// "The GI lobe is not clipped": in a closed grey sphere around the light, the GI map's stored
+// power, and the GI estimate anywhere on the wall (the photons lie evenly: total over 4 pi R^2),
+// follow the unclipped lobe; turning directions back would keep several percent more.
 TEST(ClassicGlobalIllumination, AClosedRoomLosesWhatTheUnclippedLobeSendsIntoTheWall) {
     const double rho = 0.8;
     const RenderJob job = caustica::testing::load_first_job(sphere_room(rho));

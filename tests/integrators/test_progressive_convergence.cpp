@@ -1,6 +1,6 @@
-// Progressive photon mapping (issue 11): the accumulation converges to analytic answers, keeps
-// energy whatever the projection maps, the thread count or the scale, and is bit-identical for
-// any thread count with --reproducible. Each test is sized to run in about a second in Release;
+// Progressive photon mapping (docs/CAUSTICS.md): the accumulation converges to analytic answers,
+// keeps energy whatever the projection maps, the thread count or the scale, and is bit-identical
+// for any thread count with --reproducible. Each test is sized to run in about a second in Release;
 // under the sanitizers (CAUSTICA_SANITIZED) the longer ones do less (fewer passes, lights, scales).
 #include "tests/test_support.h"
 
@@ -137,7 +137,7 @@ MeanAndError accumulate_one_pass_at_a_time(const RenderJob& job, int passes) {
 
 }  // namespace
 
-// Issue 11: the virtual light converges to the analytic answer within 1% and the error keeps
+// The virtual light converges to the analytic answer within 1% and the error keeps
 // falling between pass 10 and pass 1000 with a log-log slope steeper than -0.25 (Knaus & Zwicker
 // with alpha = 2/3: noise and bias both fall as n^(-1/3)).
 //
@@ -148,7 +148,7 @@ MeanAndError accumulate_one_pass_at_a_time(const RenderJob& job, int passes) {
 // maximum distance everywhere) stay clear of the blocker's shadow (radius <= 0.4) and of the
 // ceiling's edge (2). A large r_1 keeps the noise low; the irradiance is smooth (relative bias of
 // a disc of radius r about r^2 / 20), so the bias it brings is small and shrinks with r.
-// Measured over six seeds: RMSE 0.53-0.61% at pass 1000, slope -0.30 to -0.36; 1.1 s.
+// Measured over six seeds: RMSE 0.53-0.61% at pass 1000, slope -0.30 to -0.36.
 // One accumulation is continued with set_stop_rules + resume() to report the intermediate
 // passes; the result equals a single run (ProgressiveStopping.ResumeContinuesTheAccumulation).
 TEST(ProgressiveConvergence, VirtualLightConvergesToTheAnalyticAnswer) {
@@ -206,7 +206,7 @@ TEST(ProgressiveConvergence, VirtualLightConvergesToTheAnalyticAnswer) {
     EXPECT_LT(rmse.back(), 0.5 * rmse.front());
 }
 
-// Issue 11: inside a closed diffuse sphere of radius R and albedo rho, with a point light
+// Inside a closed diffuse sphere of radius R and albedo rho, with a point light
 // anywhere inside, the indirect irradiance is the same everywhere: rho / (1 - rho) times the mean
 // direct irradiance Phi / (4 pi R^2). With Phi = 4 pi C d_u^2 / c2 (the photon energy rule, d_u =
 // c2 = 1) that is rho / (1 - rho) C / R^2 and the pixel shows kd E with kd = rho. Without --gi
@@ -297,7 +297,7 @@ JobBuilder closed_caustic_box(double scale) {
 
 }  // namespace
 
-// Issue 11: a closed scene renders the same mean with the projection maps on and off, at any
+// A closed scene renders the same mean with the projection maps on and off, at any
 // scale (scene and unit distance scaled together). The mean of 8 passes has a standard error of
 // 0.3-0.5% (measured over seven seeds, and printed): 2.5% is > 4 sigma of the difference of two
 // independent means (the same seed is used, so that in practice the difference is smaller still:
@@ -321,7 +321,7 @@ TEST(ProgressiveConvergence, ClosedSceneKeepsItsEnergyWithAndWithoutProjectionMa
     }
 }
 
-// Issue 11: the passes are deterministic per (pixel, pass), so --reproducible renders the same
+// The passes are deterministic per (pixel, pass), so --reproducible renders the same
 // bits for any thread count: caustic photons (with projection maps) and --gi.
 TEST(ProgressiveConvergence, ReproducibleAccumulationIsBitIdenticalForAnyThreadCount) {
     for (bool gi : {false, true}) {

@@ -1,6 +1,6 @@
-// Progressive photon mapping (issue 11): passes of fresh photons gathered with a shrinking radius
-// converge to the analytic caustic of the virtual-light scene, and the renderer's estimate of its
-// error tracks the true one. More in test_progressive_convergence.cpp (the analytic answers,
+// Progressive photon mapping (docs/CAUSTICS.md): passes of fresh photons gathered with a shrinking
+// radius converge to the analytic caustic of the virtual-light scene, and the renderer's estimate
+// of its error tracks the true one. More in test_progressive_convergence.cpp (the analytic answers,
 // energy, determinism; the closed diffuse sphere) and test_progressive_stopping.cpp.
 #include "tests/scene_test_helpers.h"
 #include "tests/test_support.h"

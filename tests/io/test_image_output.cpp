@@ -1,5 +1,6 @@
-// Image output (issue 12): tone curves, OpenEXR and PFM writing and reading (round trips through
-// OpenEXR's own reader, orientation, metadata), hostile files, and `caustica render -o` by extension.
+// Image output (docs/OUTPUT.md): tone curves, OpenEXR and PFM writing and reading (round trips
+// through OpenEXR's own reader, orientation, metadata), hostile files, and `caustica render -o` by
+// extension.
 #include "core/io/image_io.h"
 #include "core/io/png_io.h"
 #include "core/io/tonemap.h"

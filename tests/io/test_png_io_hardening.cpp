@@ -235,7 +235,7 @@ TEST(PngReadHardening, AChunkLongerThanTheFileIsRefusedWithoutAllocatingIt) {
 }
 
 TEST(PngReadHardening, DecompressionBombIsRefusedByTheBudget) {
-    // 16384 x 16384 RGBA zeros: about 1 MB on disk, 1 GiB decoded (5 GB before the fix).
+    // 16384 x 16384 RGBA zeros: about 1 MB on disk, 1 GiB decoded.
     const Bytes bomb = zero_png(16384, 16384, 6, 16384 * 4);
     EXPECT_LT(bomb.size(), 2u << 20);
     expect_refused_cheaply(bomb, "16384 x 16384 pixels is more than the 67108864-pixel image budget");
@@ -572,8 +572,8 @@ TEST_F(PngWrite, AVeryLongNameStillGetsATemporaryAndAFailedWriteLeavesNothing) {
 }
 
 TEST(PngEncoding, LinearTruncatesSrgbRounds) {
-    // SEED_BEHAVIOUR A7: linear output is clamp to [0, 1], x255, truncated (no rounding); only
-    // --srgb (ours) rounds to the nearest value.
+    // "PNG bytes" (docs/SCENE_LANGUAGE.md): linear output is clamp to [0, 1], x255, truncated (no
+    // rounding); only --srgb (ours) rounds to the nearest value.
     using caustica::PixelEncoding;
     for (int k = 0; k <= 255; ++k) {
         EXPECT_EQ(caustica::encode_channel(k / 255.0f, PixelEncoding::clamped_linear), k) << k;

@@ -1,4 +1,4 @@
-// The Lua 5.1 names the original scenes were written against (SEED_BEHAVIOUR.md A8): string.gfind,
+// The Lua 5.1 names the original scenes were written against (docs/SCENE_LANGUAGE.md): string.gfind,
 // table.getn, unpack, math.mod, math.pow, loadstring (text only, sandboxed), 5.1's math.random on
 // glibc's rand(); and the course's gr.* calls that came with it: the inline gr.mesh,
 // gr.isodecahedron, node:render and gr.joint.

@@ -141,7 +141,7 @@ root:render('b.png', 16, 8, {0,0,5}, {0,0,-1}, {0,1,0}, 30, {0,0,0}, {})
     EXPECT_EQ(node_named(*b.scene, "s").material, 0);
     ASSERT_EQ(node_named(*b.scene, "s").transforms.size(), 1u);
     EXPECT_EQ(node_named(*b.scene, "s").transforms[0].amount, glm::dvec3(1, 2, 3));
-    EXPECT_EQ(a.miss_colour, glm::dvec3(1.0));  // A5: the default miss colour is white
+    EXPECT_EQ(a.miss_colour, glm::dvec3(1.0));  // the default miss colour is white
     EXPECT_EQ(b.miss_colour, glm::dvec3(0.2, 0.3, 0.4));
     EXPECT_EQ(a.output, "a.png");
     EXPECT_EQ(b.output, "b.png");

@@ -108,7 +108,7 @@ TEST(Roulette, SeedProbabilities) {
     m.ks = glm::vec3(0.1f);
     m.reflective = true;
     const RouletteOdds odds = roulette_odds(m);
-    EXPECT_NEAR(odds.diffuse, 0.3f, 1e-6f);   // the seed's example: 0.9 / 3
+    EXPECT_NEAR(odds.diffuse, 0.3f, 1e-6f);   // the original's example: 0.9 / 3
     EXPECT_NEAR(odds.specular, 0.1f, 1e-6f);  // 0.3 / 3
     m.reflective = false;                     // a Phong highlight is not a specular interaction
     EXPECT_EQ(roulette_odds(m).specular, 0.0f);

@@ -1,5 +1,6 @@
-// The classic photon pass (SEED_BEHAVIOUR.md B4) and the classic k-NN search and estimate (B5):
-// each rule of the original renderer, with a test that fails without it.
+// The classic photon pass and the classic k-NN search and estimate (docs/CAUSTICS.md, from
+// "photon emission" to "estimate"): each rule of the original renderer, with a test that fails
+// without it.
 #include "core/photons/caustic_stage.h"
 #include "core/photons/classic_photons.h"
 #include "core/photons/photon_kdtree.h"
@@ -80,7 +81,7 @@ ClassicPhotonResult shoot(const RenderJob& job, long long caustic, long long gi,
     return shoot_classic_photons(*scene, nullptr, job_lights(job), s, nullptr);
 }
 
-/// The energy of one photon by B4, in double: 4 pi d_u^2 fudge C / (c2 N).
+/// The energy of one photon ("photon emission"), in double: 4 pi d_u^2 fudge C / (c2 N).
 glm::dvec3 expected_energy(glm::dvec3 colour, double unit_distance, double fudge, double c2, double n) {
     return 4.0 * pi * unit_distance * unit_distance * fudge * colour / (c2 * n);
 }
@@ -119,7 +120,7 @@ TEST(ClassicEmission, CellsTileTheSphereWithNearlyEqualSolidAngles) {
 }
 
 TEST(ClassicEmission, ShotCountsAreTheOriginalsExactly) {
-    // floor(N a_T) summed over the geodesic cells: the totals the original shot (B4), to the
+    // floor(N a_T) summed over the geodesic cells: the totals the original shot, to the
     // photon. A flat subdivision projected at the end gives other totals (2 035 060 at 2 621 440).
     EXPECT_EQ(classic_photons_offered(2'621'440), 1'638'400);
     EXPECT_EQ(classic_photons_offered(4'000'000), 3'041'280);
@@ -153,7 +154,7 @@ TEST(ClassicEmission, ThePassTracesEveryPhotonTheCellsOffer) {
     EXPECT_EQ(r.gi_lights[0].traced, classic_photons_offered(n));
 }
 
-// ---- B4 rules --------------------------------------------------------------------------------
+// ---- The photon rules ------------------------------------------------------------------------
 
 TEST(ClassicPhotons, EnergyIsSetByThePhotonsRequestedNotShot) {
     // A white mirror floor (always specular) under a light in a closed box of diffuse walls: every
@@ -422,7 +423,7 @@ TEST(ClassicPhotons, DiffuseDirectionsSpreadAroundTheMirrorDirection) {
     std::sort(sines.begin(), sines.end());
     for (int q = 1; q <= 3; ++q) EXPECT_NEAR(sines[sines.size() * q / 4], 0.25f * q, 0.01f) << q;
     // Grazing incidence: the mirror direction lies in the surface, and by symmetry half of the
-    // lobe points below it. The lobe is not clipped (B4): those go on into the solid.
+    // lobe points below it. The lobe is not clipped: those go on into the solid.
     const int grazing = 40000;
     int below = 0;
     for (int i = 0; i < grazing; ++i) below += glm::dot(classic_diffuse_direction({1, 0, 0}, n, u(rng), u(rng)), n) < 0.0f;
@@ -464,7 +465,7 @@ TEST(ClassicPhotons, ProjectionMapKeepsDirectionsWhoseFirstHitHasKsLumaAboveAFif
     EXPECT_GT(r.caustic_lights[0].traced, 0);
 }
 
-// ---- B5 search and estimate ------------------------------------------------------------------
+// ---- Search and estimate ---------------------------------------------------------------------
 
 TEST(ClassicSearch, AlwaysReturnsKEvenWhenEveryPhotonIsFar) {
     std::vector<glm::vec3> points;
@@ -566,7 +567,7 @@ TEST(ClassicStage, FingerprintFollowsIntegratorAndGi) {
     job.options.integrator = IntegratorKind::progressive;
     EXPECT_NE(caustic_fingerprint(job, 1), classic_plain);
     job.options.gi = true;
-    EXPECT_TRUE(caustics_needed(job)) << "progressive --gi: one map of every indirect path (issue 11)";
+    EXPECT_TRUE(caustics_needed(job)) << "progressive --gi: one map of every indirect path";
 }
 
 TEST(ClassicStage, BuildsTheMapsOfTheIntegratorAndAcceptsKdPlusKsAboveOne) {

@@ -1,4 +1,4 @@
-// Rendering one frame on several ranks (issue 13), with threads standing in for the ranks
+// Rendering one frame on several ranks (docs/SCALING.md), with threads standing in for the ranks
 // (make_local_cluster: the protocol the MPI ranks follow, in one process, so that it runs under
 // the sanitizers too; built into session_tests, which CI also runs under ThreadSanitizer). The image of K ranks is one process's, bit for bit, for both integrators;
 // a failure or an interruption on one rank stops every rank with that rank's message. The same
@@ -216,7 +216,7 @@ TEST(Cluster, ClassicImageWithPhotonsAndAntialiasingIsOneProcesssBitForBit) {
 
 TEST(Cluster, ClassicCornerGridAndGiMapsAreOneProcesss) {
     RenderJob job = caustic_box(IntegratorKind::classic);
-    job.options.a4 = true;  // B3's corner grid: the refine flags go to every rank with the first pass
+    job.options.a4 = true;  // classic corner grid: the refine flags go to every rank with the first pass
     job.options.gi = true;
     job.options.gi_num_photons = 200'000;
     const Image alone = render_alone(job);

@@ -105,7 +105,7 @@ TEST(CourseScenes, MissColourCornersInSimple) {
     session.start();
     ASSERT_TRUE(session.wait());
     // The top corners look past every sphere. simple.lua sets no miss colour, so they show the
-    // default: A5, the default miss colour is white (1,1,1).
+    // default: the default miss colour is white (1,1,1).
     EXPECT_EQ(session.image().at(0, 0), glm::vec3(1.0f));
     EXPECT_EQ(session.image().at(255, 0), glm::vec3(1.0f));
 }

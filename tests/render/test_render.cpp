@@ -34,7 +34,7 @@ TEST(Render, LambertAtNormalIncidenceIsKd) {
     EXPECT_NEAR(c.x, 0.5f, 1e-4f);
     EXPECT_NEAR(c.y, 0.25f, 1e-4f);
     EXPECT_NEAR(c.z, 0.125f, 1e-4f);
-    EXPECT_EQ(image.at(0, 0), glm::vec3(1.0f));  // the miss colour: A5, the default is white
+    EXPECT_EQ(image.at(0, 0), glm::vec3(1.0f));  // the miss colour: the default is white
 }
 
 TEST(Render, AmbientAddsAmbientTimesKd) {
@@ -98,7 +98,7 @@ TEST(Render, MirrorReflectsWithKs) {
     EXPECT_NEAR(image.at(16, 16).y, 0.2f, 1e-5f);
     EXPECT_NEAR(image.at(16, 16).z, 0.2f, 1e-5f);
     // --max-depth bounds the progressive integrator's recursion (the classic one has no such
-    // option: B1 cuts by weight and returns white past depth 15; docs/CAUSTICS.md).
+    // option: it cuts by weight and returns white past depth 15; docs/CAUSTICS.md).
     b.job.options.integrator = IntegratorKind::progressive;
     EXPECT_NEAR(caustica::testing::render(b.build()).at(16, 16).x, 0.4f, 1e-5f);
     b.job.options.max_depth = 0;  // no reflection at all
@@ -117,7 +117,7 @@ TEST(Render, ReproducibleOutputIsIdenticalForOneAndTwoThreads) {
     b.camera({0, 0, 6}, {0, 0, -1}, 50);
     b.job.options.aa_threshold = 0.05;  // many anti-aliased pixels: exercises the random streams
     // The progressive integrator's jittered samples draw on the random streams; the classic grid
-    // (B3) has none, but must be just as independent of the thread count.
+    // has none, but must be just as independent of the thread count.
     for (const IntegratorKind kind : {IntegratorKind::progressive, IntegratorKind::classic}) {
         b.job.options.integrator = kind;
         b.job.options.threads = 1;
@@ -168,9 +168,10 @@ TEST(Render, AntialiasingTouchesOnlyEdges) {
     b.job.options.disable_aa = false;
     b.job.options.draw_aa = true;
     const Image image = caustica::testing::render(b.build());
-    // Centre: not an edge, so not marked. B3 (the classic default, aa grid 3): an unrefined pixel
-    // is the mean of its 4 corner samples at (i + 1/2)/3, i = 0, 2: each a third of a pixel from
-    // the axis on both image axes. With the light at the eye, each sample is n.l = -n.d at its hit.
+    // Centre: not an edge, so not marked. Classic anti-aliasing (the default, aa grid 3): an
+    // unrefined pixel is the mean of its 4 corner samples at (i + 1/2)/3, i = 0, 2: each a third of
+    // a pixel from the axis on both image axes. With the light at the eye, each sample is
+    // n.l = -n.d at its hit.
     const double tan_half = std::tan(15.0 * 3.14159265358979323846 / 180.0);  // 30 degrees across
     const double a = (2.0 / 3.0) / 65.0 * tan_half;  // a third of a pixel, on the plane at distance 1
     const glm::dvec3 d = glm::normalize(glm::dvec3(a, a, -1.0));
@@ -180,7 +181,7 @@ TEST(Render, AntialiasingTouchesOnlyEdges) {
     EXPECT_LT(corner, 1.0);
     EXPECT_NEAR(image.at(32, 32).x, corner, 1e-5);
     EXPECT_EQ(image.at(32, 32), glm::vec3(image.at(32, 32).x));  // grey: not painted red
-    EXPECT_EQ(image.at(0, 0), glm::vec3(1.0f));  // background (A5: white miss colour): not an edge
+    EXPECT_EQ(image.at(0, 0), glm::vec3(1.0f));  // background (white miss colour): not an edge
     int marked = 0;
     for (int x = 0; x < 65; ++x) marked += image.at(x, 32) == glm::vec3(1, 0, 0);
     EXPECT_GE(marked, 2);  // the silhouette crosses the middle row twice
@@ -227,7 +228,7 @@ TEST(Transforms, SeedConventionPostMultipliesCourseConventionPreMultiplies) {
     ops[1].kind = TransformOp::Kind::scale;
     ops[1].amount = {2, 2, 2};
     const glm::dvec4 origin(0, 0, 0, 1);
-    // Seed: M = T * S, the last call (scale) acts first: the origin goes to (1,0,0).
+    // The original's: M = T * S, the last call (scale) acts first: the origin goes to (1,0,0).
     EXPECT_EQ(glm::dvec3(compose_transforms(ops, false) * origin), glm::dvec3(1, 0, 0));
     // Course: M = S * T, calls act in order: translate then scale: (2,0,0).
     EXPECT_EQ(glm::dvec3(compose_transforms(ops, true) * origin), glm::dvec3(2, 0, 0));

@@ -1,5 +1,6 @@
 // Runs `caustica` as a child process under hard limits, for the reproducer tests
-// (tests/repro/test_repro*.cpp, issue 9): a regression fails fast instead of eating the machine.
+// (tests/repro/test_repro*.cpp, docs/RELIABILITY.md): a regression fails fast instead of eating the
+// machine.
 //
 // Each run forks, puts the child in its own process group (Ctrl-C is sent to the group, as a
 // terminal does), sets RLIMIT_AS (not under AddressSanitizer, whose shadow memory needs terabytes

@@ -1,6 +1,6 @@
-// The renderer under hostile but finite input (issue 9): deep nesting, far and huge values,
-// option values that would allocate without bound, malformed OBJ files, hashing and the denormal
-// mode. Each test fails (or crashes) without the change it backs.
+// The renderer under hostile but finite input (docs/RELIABILITY.md): deep nesting, far and huge
+// values, option values that would allocate without bound, malformed OBJ files, hashing and the
+// denormal mode. Each test fails (or crashes) without the change it backs.
 #include "core/util/denormals.h"
 #include "core/geometry/mesh_obj.h"
 #include "core/scene/options.h"
@@ -350,7 +350,7 @@ void expect_extremes_give_finite_pixels(IntegratorKind kind) {
         for (const double index : {1e6, 1e-6, 1.5}) {
             MaterialDesc glass;
             glass.kd = {1e6, 0.5, 0};  // the surface's diffuse colour
-            glass.ks = {1e6, 1e6, 0};  // A6: the medium's colour, transmittance 1e6^(d / unit distance)
+            glass.ks = {1e6, 1e6, 0};  // the medium's colour, transmittance 1e6^(d / unit distance)
             glass.refractive_index = index;
             b.scene->materials.push_back(glass);
         }
@@ -393,8 +393,8 @@ void expect_extremes_give_finite_pixels(IntegratorKind kind) {
         EXPECT_GT(session.stats().rays.refracted, 0u);  // the medium was crossed
         if (c.caustics) {
             // At d_u = 1e-300 the photon energy 4 pi d_u^2 C / (c2 N) underflows to exactly 0 in
-            // double. The progressive map stores such photons; B4 stores a classic photon only if
-            // its luma is > 0, so the classic map stays empty there (the rule, not a failure).
+            // double. The progressive map stores such photons; the classic map stores a photon only
+            // if its luma is > 0, so the classic map stays empty there (the rule, not a failure).
             if (kind == IntegratorKind::classic && c.unit_distance < 1e-150)
                 EXPECT_EQ(session.stats().caustic_photons, 0u) << c.unit_distance;
             else

@@ -1,9 +1,9 @@
-// The reproducers of issue 9 (../shared/repro/README.md), part 1: the sandbox (S1, S2, S4, S5),
-// bounded time (S3: long C calls, finalizers, one Ctrl-C) and atomic output under signals (A1).
-// Each test runs `caustica render` in a child under hard limits (tests/repro/repro_runner.h) on
-// a copy of the reproducer in a fresh folder, and asserts the exact outcome: exit code, the
-// "file:line:" of the message, nothing read or written outside, the time taken.
-// Part 2 (memory, crashes, NaN) is test_repro_resources.cpp, part 3 (OBJ, PNG) test_repro_inputs.cpp.
+// The reproducers of the hardening audit (tests/repro/README.md), part 1: the sandbox (S1, S2, S4,
+// S5), bounded time (S3: long C calls, finalizers, one Ctrl-C) and atomic output under signals
+// (A1). Each test runs `caustica render` in a child under hard limits (tests/repro/repro_runner.h)
+// on a copy of the reproducer in a fresh folder, and asserts the exact outcome: exit code, the
+// "file:line:" of the message, nothing read or written outside, the time taken. Part 2 (memory,
+// crashes, NaN) is test_repro_resources.cpp, part 3 (OBJ, PNG) test_repro_inputs.cpp.
 #include "tests/repro/repro_runner.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
-// The reproducers of issue 9 (../shared/repro/README.md), part 3: OBJ faces (B1) and hostile PNG
-// files (B2), made at run time. Each test runs `caustica render` in a child under hard limits
-// (tests/repro/repro_runner.h) and asserts the outcome: the image, or exit 2 with "file:line:
-// call:" naming the file, within bounded time and resident size.
+// The reproducers of the hardening audit (tests/repro/README.md), part 3: OBJ faces (B1) and
+// hostile PNG files (B2), made at run time. Each test runs `caustica render` in a child under hard
+// limits (tests/repro/repro_runner.h) and asserts the outcome: the image, or exit 2 with
+// "file:line: call:" naming the file, within bounded time and resident size.
 #include "tests/repro/repro_runner.h"
 
 #include "core/io/png_io.h"

@@ -1,9 +1,10 @@
-// The reproducers of issue 9 (../shared/repro/README.md), part 2: bounded memory (R1, M1), option
-// ranges (R5), device files and FIFOs (R2), deep scenes (R3), far cameras and lights (R4,
+// The reproducers of the hardening audit (tests/repro/README.md), part 2: bounded memory (R1, M1),
+// option ranges (R5), device files and FIFOs (R2), deep scenes (R3), far cameras and lights (R4,
 // fuzz_crashes), NaN pixels (N1) and the hashes UBSan caught (U1). Each test runs `caustica` in a
 // child under hard limits (tests/repro/repro_runner.h) on a copy of the reproducer and asserts the
 // outcome: the image, or exit 2 with "file:line: call:", within bounded time and resident size.
-// Part 1 (sandbox, time, signals) is test_repro.cpp; part 3 (OBJ and PNG files) test_repro_inputs.cpp.
+// Part 1 (sandbox, time, signals) is test_repro.cpp; part 3 (OBJ and PNG files)
+// test_repro_inputs.cpp.
 #include "tests/repro/repro_runner.h"
 
 #include "core/lua/scene_loader.h"

@@ -26,11 +26,11 @@ TEST(Options, DefaultsAreTheSeeds) {
     EXPECT_EQ(o.aa_grid, 3);
     EXPECT_DOUBLE_EQ(o.aa_threshold, 0.5);
     EXPECT_EQ(o.caustic_num_photons, 0);
-    EXPECT_EQ(o.caustic_num_neighbours, 5);  // A9: --caustic-num-neighbours defaults to 5
-    EXPECT_EQ(o.gi_num_photons, 1'000'000);  // A9: --gi-num-photons 1 000 000
-    EXPECT_EQ(o.gi_num_neighbours, 100);     // A9: --gi-num-neighbours 100
+    EXPECT_EQ(o.caustic_num_neighbours, 5);  // --caustic-num-neighbours defaults to 5
+    EXPECT_EQ(o.gi_num_photons, 1'000'000);  // --gi-num-photons 1 000 000
+    EXPECT_EQ(o.gi_num_neighbours, 100);     // --gi-num-neighbours 100
     EXPECT_FALSE(o.gi_wanted());
-    EXPECT_EQ(o.integrator, IntegratorKind::classic);  // Part B: the classic integrator is the default
+    EXPECT_EQ(o.integrator, IntegratorKind::classic);  // the classic integrator is the default
     EXPECT_EQ(o.caustic_pm_gran, 180);
     EXPECT_EQ(o.shadow_grid, 4);
     EXPECT_DOUBLE_EQ(o.unit_distance, 1.0);
@@ -116,8 +116,8 @@ TEST(Options, BadValuesNameTheOption) {
 }
 
 TEST(Options, GlobalIlluminationIsAcceptedNotIgnored) {
-    // A9/B4: the --gi family is accepted now (it was refused while unimplemented); each token must
-    // reach the options, and each debug view turns the GI map on.
+    // The --gi family is accepted: each token must reach the options, and each debug view turns the
+    // GI map on.
     Options o;
     apply_option_tokens(o, {"--gi", "--gi-num-photons", "10", "--gi-num-neighbours", "7"});
     EXPECT_TRUE(o.gi);

@@ -86,15 +86,16 @@ TEST(BeerLambert, TransmittanceIsColourToTheDistanceInUnits) {
     EXPECT_NEAR(t.z, 1.0f, 1e-6f);
     EXPECT_NEAR(medium_transmittance({0.5f, 0.5f, 0.5f}, 2.0f, 2.0f).x, 0.5f, 1e-6f);  // unit distance scales
     EXPECT_EQ(medium_transmittance(glm::vec3(1.0f), 100.0f, 1.0f), glm::vec3(1.0f));  // white: clear
-    EXPECT_EQ(medium_transmittance(glm::vec3(0.0f), 0.5f, 1.0f), glm::vec3(0.0f));  // A6: ks = 0 passes nothing
+    EXPECT_EQ(medium_transmittance(glm::vec3(0.0f), 0.5f, 1.0f), glm::vec3(0.0f));  // ks = 0 passes nothing
 }
 
 TEST(BeerLambert, ASlabOfColouredMediumDimsTheBackgroundAsTheFormulaSays) {
-    // Index 1 (no refraction, no reflection): only absorption over the slab's 0.5 thickness.
-    // A6: the medium colour is ks, and the transmitted ray carries (1 - R) ks^(d/d_u) with no
-    // extra per-crossing ks factor (R = 0 here). kd is the surface's own diffuse colour: 0.
-    // The progressive integrator: its medium stack returns the ray to air past the slab, while the
-    // classic one (B1) tints a plain object's exit segment with its ks too, to the next hit.
+    // Index 1 (no refraction, no reflection): only absorption over the slab's 0.5 thickness. The
+    // medium colour is ks, and the transmitted ray carries (1 - R) ks^(d/d_u) with no extra
+    // per-crossing ks factor (R = 0 here). kd is the surface's own diffuse colour: 0. The
+    // progressive integrator: its medium stack returns the ray to air past the slab, while the
+    // classic one (docs/CAUSTICS.md, "media") tints a plain object's exit segment with its ks too,
+    // to the next hit.
     JobBuilder b(33, 33);
     MaterialDesc tint;
     tint.kd = {0, 0, 0};
@@ -284,7 +285,7 @@ TEST(Invariance, NestedSolidOfTheSameIndexIsInvisibleThanksToTheMediumStack) {
         b.job.ambient = {1, 1, 1};
         b.job.options.disable_aa = true;
         b.job.options.max_depth = 16;
-        // The medium stack is the progressive integrator's (the classic one, B1, treats each plain
+        // The medium stack is the progressive integrator's (the classic one treats each plain
         // object as glass in air, as the original did).
         b.job.options.integrator = IntegratorKind::progressive;
         return caustica::testing::render(b.build());

@@ -1,6 +1,7 @@
-// The scene language's measured rules (../shared/SEED_BEHAVIOUR.md Part A): primitive extents,
-// uv layouts and bump tangents (A2), remaps (A3), checkers, ripples and PNG bump maps (A4), the
-// camera's field of view and the PNG output encoding (A7). Every expected value is the rule's own.
+// The scene language's measured rules (docs/SCENE_LANGUAGE.md, "What a scene means", and
+// docs/TEXTURES.md): primitive extents, uv layouts and bump tangents, remaps, checkers, ripples and
+// PNG bump maps, the camera's field of view and the PNG output encoding. Every expected value is
+// the rule's own.
 #include "core/geometry/shapes.h"
 #include "core/io/png_io.h"
 #include "core/scene/camera.h"
@@ -92,7 +93,7 @@ std::shared_ptr<const Png8> grey_image(int w, int h, const std::function<int(int
 
 }  // namespace
 
-// --- A2: primitives -----------------------------------------------------------------------------
+// --- Primitives ---------------------------------------------------------------------------------
 
 TEST(SceneLanguagePrimitives, ConeHasHeightOneApexAtHalfAndBaseRadiusOne) {
     ShapeInterval iv;
@@ -243,7 +244,7 @@ TEST(SceneLanguagePrimitives, SphereSeamPolesAndFront) {
     EXPECT_EQ(t.v, glm::vec3(0.0f));
 }
 
-// --- A3: remaps ---------------------------------------------------------------------------------
+// --- Remaps -------------------------------------------------------------------------------------
 
 TEST(SceneLanguageRemaps, WindowsStretchToTheWholeImageBoundsIncluded) {
     struct WindowCase {
@@ -297,7 +298,7 @@ TEST(SceneLanguageRemaps, OutsideTheWindowATextureIsBlackAndABumpDoesNothing) {
     EXPECT_NE(ripple.shading_normal(0, front, {0, 0, 1}), glm::vec3(0, 0, 1));
 }
 
-// --- A4: procedural textures and bump maps ------------------------------------------------------
+// --- Procedural textures and bump maps ----------------------------------------------------------
 
 TEST(SceneLanguageTextures, CheckersAre24PerUnitWithTheSquareAtTheOriginBlack) {
     const TextureSet set(scene_with("redcheck", false));
@@ -410,7 +411,7 @@ TEST(SceneLanguageTextures, MeshesHaveNoUvAndNoTangents) {
     EXPECT_EQ(ripple.shading_normal(0, mesh, mesh.normal), mesh.normal);                  // no tangents
 }
 
-// --- A7: camera and output ----------------------------------------------------------------------
+// --- Camera and output --------------------------------------------------------------------------
 
 TEST(SceneLanguageCamera, GrRenderAngleIsHorizontalWithVerticalAngleFovOverAspect) {
     const CameraDesc desc{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 60.0};

@@ -1,6 +1,6 @@
 // Textures and bump maps: image decoding (every PNG colour type and depth), caching, errors,
 // the cube's cross and the sphere's map through a TextureSet, and end-to-end renders. The rules
-// themselves (SEED_BEHAVIOUR A2-A4) are tested one by one in test_scene_language.cpp.
+// themselves (docs/TEXTURES.md) are tested one by one in test_scene_language.cpp.
 #include "core/scene/camera.h"
 #include "core/lua/scene_loader.h"
 #include "core/io/png_io.h"
@@ -268,8 +268,8 @@ TEST(TextureSetBasics, UntexturedMaterialsKeepKdAndNormal) {
 // --- Procedural textures ----------------------------------------------------------------------
 
 TEST(TextureProcedural, CheckerColoursAndPhase) {
-    // 24 squares per unit (SEED_BEHAVIOUR A4; was 8 with the colour at (0, 0)): n = floor(24u) +
-    // floor(24v), the colour where n is odd. test_scene_language.cpp counts the squares.
+    // 24 squares per unit (docs/TEXTURES.md, "Procedural textures"): n = floor(24u) + floor(24v),
+    // the colour where n is odd. test_scene_language.cpp counts the squares.
     const glm::vec3 black(0.0f);
     EXPECT_EQ(checker(*checker_colour("greencheck"), {0.3f, 0.3f}), black);       // (7, 7)
     EXPECT_EQ(checker(*checker_colour("greencheck"), {0.3f, 0.34f}), glm::vec3(0, 1, 0));  // (7, 8)
@@ -389,7 +389,7 @@ TEST(TextureScene, DemoSceneShowsTheDiesYellowTop) {
     job.options.silent = true;
     const Image image = caustica::testing::render(job);
     // The die (translate(-3.3, 0, 1.6) rotate('y', 35)) wears the cube's own uv, the 4 x 3 cross
-    // (SEED_BEHAVIOUR A2): its top face at local (-0.5, 1, 0) has s = (0.25, 1, 0.5), so
+    // (docs/TEXTURES.md): its top face at local (-0.5, 1, 0) has s = (0.25, 1, 0.5), so
     // u = (1 + s_x)/4 = 0.3125 and v = (2 - s_z)/3 = 0.5: the +y cell (column 1 of the middle row)
     // at (0.25, 0.5) within the cell, in its yellow between the pip and the border.
     const float c = std::cos(glm::radians(35.0f)), s = std::sin(glm::radians(35.0f));

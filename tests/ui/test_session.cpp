@@ -176,8 +176,8 @@ TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
 }
 
 // A pass stops within a frame (16 ms); Embree stops a BVH build at its next progress report
-// (10.6 ms measured on a million triangles); the k-d tree of the photons shot so far cannot be
-// interrupted, so that stage gets a longer bound (the UI never waits for it).
+// (docs/PERFORMANCE.md has its time on a million triangles); the k-d tree of the photons shot so
+// far cannot be interrupted, so that stage gets a longer bound (the UI never waits for it).
 INSTANTIATE_TEST_SUITE_P(Stages, CancelDuringStage,
                          ::testing::Values(StageCase{"building the scene", 0.25}, StageCase{"shooting photons", 5.0},
                                            StageCase{"preview", 0.016}, StageCase{"first samples", 0.016},
@@ -418,7 +418,7 @@ TEST(PreviewDriver, ARenderErrorIsReportedOnceAndTheDriverGoesOn) {
     JobBuilder b = lit_scene(64, 48);
     b.job.options.caustic_num_photons = 1000;
     // The progressive integrator refuses a surface that would make energy (its photons need
-    // kd + ks <= 1); the classic one (B4) draws its odds from the lumas and absorbs the rest.
+    // kd + ks <= 1); the classic one draws its odds from the lumas and absorbs the rest.
     b.job.options.integrator = IntegratorKind::progressive;
     b.scene->materials[2].kd = {0.9, 0.9, 0.9};  // the mirror: mean(kd) + mean(ks) = 1.4 > 1
     PreviewDriver driver;

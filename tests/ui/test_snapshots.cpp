@@ -106,8 +106,9 @@ TEST(Snapshot, ImageRegionMatchesABatchRenderOfTheSameView) {
     ASSERT_TRUE(preview.settle()) << preview.model->error();
     const std::vector<unsigned char> shot = preview.snapshot();
     const std::string reference = preview.folder.file("batch.png");
-    // What you see is what you save (issue 12): the preview renders what `caustica render SCENE` with
-    // the view's options does, no preset of its own: the batch render is given the same options only.
+    // What you see is what you save (docs/PREVIEW.md): the preview renders what `caustica render
+    // SCENE` with the view's options does, no preset of its own: the batch render is given the same
+    // options only.
     const std::string command = std::string(CAUSTICA_BINARY) + " render " + preview.scene + " -o " + reference +
                                 " --reproducible --threads 2 -s";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
@@ -117,7 +118,7 @@ TEST(Snapshot, ImageRegionMatchesABatchRenderOfTheSameView) {
     ASSERT_EQ(batch.height, layout.image_height);
     EXPECT_EQ(layout.scale, 3.0f);  // 256 x 192 in the 910 x 720 image area: magnified three times
     // Same job, same seed: the float images are identical. The batch encodes with
-    // floor(255 v) (A7: the PNG truncates), so the display must show floor(255 v) / 255 too; GL's
+    // floor(255 v) (the PNG truncates), so the display must show floor(255 v) / 255 too; GL's
     // float-to-unorm conversion of that may round either way: at most one step apart, per
     // channel, and only where the float product lands a hair off a whole step.
     int worst = 0;

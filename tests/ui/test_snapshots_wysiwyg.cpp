@@ -1,7 +1,7 @@
-// Headless snapshots of "what you see is what you save" (issue 12): the command line the sidebar
-// copies renders, in batch, the very image the preview shows after the person's changes; and the
-// save questions answer to Enter and Esc (an Enter that answers one question never answers the
-// next one too).
+// Headless snapshots of "what you see is what you save" (docs/PREVIEW.md): the command line the
+// sidebar copies renders, in batch, the very image the preview shows after the person's changes;
+// and the save questions answer to Enter and Esc (an Enter that answers one question never answers
+// the next one too).
 #include "headless_preview.h"
 #include "ui/keys.h"
 

@@ -209,7 +209,7 @@ TEST(ViewModel, KnobsThePersonSetSurviveAReload) {
 
 TEST(ViewModel, SettingsThatFailToRenderAreTakenBack) {
     // kd + ks > 1 on a mirror only matters once photons are shot, and only to the progressive
-    // integrator, which refuses a surface that makes energy (the classic one, B4, absorbs the rest
+    // integrator, which refuses a surface that makes energy (the classic one absorbs the rest
     // of its luma odds and renders it).
     LoadedModel m(caustic_box_text(0, "gr.option('--integrator progressive --passes 2')\n"
                                       "hot = gr.material({0.6, 0.6, 0.6}, {0.8, 0.8, 0.8}, 10)\n"

@@ -1,4 +1,4 @@
-// What you see is what you save (issue 12): the preview composes its job exactly as
+// What you see is what you save (docs/PREVIEW.md): the preview composes its job exactly as
 // `caustica render SCENE [options]` does, lists every difference the person makes (each
 // resettable) and turns them into the command line that renders the same image; command-line
 // options belong to their scene; undo and redo; saving when the render is done; camera
@@ -318,7 +318,7 @@ TEST(Wysiwyg, CourseSceneHintOnlyWhereTheCourseConventionsShowTheScene) {
     }
     // Given --a4, the scenes whose objects leave the view get the other hint (textures.lua: 10
     // in view without it, 8 with); default.lua and soft_shadows.lua keep them all in view.
-    EXPECT_EQ(seed_hints["textures.lua"], "Looks like a scene in the seed's conventions: 10 of 10 objects are in view "
+    EXPECT_EQ(seed_hints["textures.lua"], "Looks like a scene in the original's conventions: 10 of 10 objects are in view "
                                           "without --a4, 8 with. Untick --a4 if it renders broken.");
     EXPECT_EQ(seed_hints["default.lua"], "");
     for (const char* name : {"hier", "macho-cows", "nonhier", "simple", "simple-cows"})

@@ -36,8 +36,8 @@ root:add_child(post)
 light = gr.light({0.3, 2.2, 0.8}, {4.0, 4.0, 3.8}, {0.3, 0.0, 0.45})
 gr.option('--caustic-num-photons 2000000')
 
--- The angle is the horizontal one (SEED_BEHAVIOUR A7): 60 across 256 x 192 is 45 vertically,
--- the framing the tests measure (the sky shows past the wall's top corners).
+-- The angle is the horizontal one (docs/SCENE_LANGUAGE.md, "camera angle"): 60 across 256 x 192 is
+-- 45 vertically, the framing the tests measure (the sky shows past the wall's top corners).
 gr.render(root, 'caustic_box.png', 256, 192,
           {0, 1.6, 4.6}, {0, -0.4, -1}, {0, 1, 0}, 60,
           {0.2, 0.2, 0.2}, {light})
