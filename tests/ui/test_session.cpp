@@ -140,9 +140,17 @@ TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
     // make it about 50 ms; each tile still takes well under a millisecond, so the stop bound is
     // as demanding as before.
     session.set_progressive(true, stage == "preview" ? 1 : preview_block);
-    session.set_job(job);
-    session.start();
-    ASSERT_TRUE(wait_for_stage(session, stage, caustica::testing::time_bound(60.0))) << "never saw the stage '" << stage << "'";
+    // A stage of a few tens of milliseconds can pass unseen by a poller that a loaded machine
+    // deschedules that long: the render is started again (a whole new render, the same job)
+    // until the poller sees it, a few times at most.
+    bool seen = false;
+    for (int attempt = 0; attempt < 5 && !seen; ++attempt) {
+        session.set_job(job);
+        session.start();
+        seen = wait_for_stage(session, stage, caustica::testing::time_bound(60.0));
+        if (!seen) session.wait();
+    }
+    ASSERT_TRUE(seen) << "never saw the stage '" << stage << "' in 5 renders";
     const auto t0 = clock_type::now();
     session.cancel();
     const double cancel_seconds = seconds_since(t0);
