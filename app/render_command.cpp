@@ -1,5 +1,7 @@
 #include "app/render_command.h"
 
+#include "core/integrators/registry.h"
+
 #include "app/animation.h"
 #include "app/progress_bar.h"
 #include "core/lua/scene_loader.h"
@@ -225,7 +227,7 @@ ImageMetadata render_metadata(const RenderJob& job, const std::string& scene_pat
     const int r = o.resolution_override;
     ImageMetadata text = {{"Software", "caustica " CAUSTICA_VERSION},
                           {"Source", scene_path},
-                          {"caustica:integrator", o.integrator == IntegratorKind::classic ? "classic" : "progressive"},
+                          {"caustica:integrator", integrator_entry(o.integrator).name},
                           {"caustica:options", describe_non_default(o)},
                           {"caustica:camera", "eye " + format_vector(c.eye) + " view " + format_vector(c.view) + " up " +
                                                   format_vector(c.up) + " fovy " + fovy},
@@ -396,7 +398,7 @@ int plan_render(const std::vector<std::string>& args, RenderSession& session, bo
     }
     for (const AnimationFrame& frame : out.plan.frames) {
         const Options& o = frame.job.options;
-        if (o.integrator == IntegratorKind::progressive && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
+        if (integrator_entry(o.integrator).accumulates && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
             throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
     }
     if (writes && !jobs[0].options.silent)

@@ -1,5 +1,7 @@
 #include "ui/caustic_knobs.h"
 
+#include "core/integrators/registry.h"
+
 #include <charconv>
 #include <string>
 
@@ -56,7 +58,7 @@ std::string knob_value_text(const CausticKnobs& k, KnobField field) {
     case KnobField::granularity: return std::to_string(k.pm_granularity);
     case KnobField::only: return k.photons_only ? "on" : "off";
     case KnobField::dots: return k.photon_dots ? "on" : "off";
-    case KnobField::integrator: return k.integrator == IntegratorKind::progressive ? "progressive" : "classic";
+    case KnobField::integrator: return integrator_entry(k.integrator).name;
     case KnobField::gi: return k.gi ? "on" : "off";
     case KnobField::gi_photons: return std::to_string(k.gi_photons);
     case KnobField::gi_neighbours: return std::to_string(k.gi_neighbours);

@@ -1,6 +1,8 @@
 // The Caustics section: live knobs of the photon map, the debug views and the overlay settings.
 #include "ui/panels.h"
 
+#include "core/integrators/registry.h"
+
 #include "core/scene/source_location.h"
 
 #include <imgui.h>
@@ -125,13 +127,15 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
          "`caustica render SCENE` uses");
 
     CausticKnobs k = model.knobs();
-    int integrator = static_cast<int>(k.integrator);
-    if (ImGui::Combo("integrator", &integrator, "classic\0progressive\0"))
-        k.integrator = static_cast<IntegratorKind>(integrator);
+    if (ImGui::BeginCombo("integrator", integrator_entry(k.integrator).name)) {
+        for (const IntegratorEntry& entry : integrator_entries())
+            if (ImGui::Selectable(entry.name, entry.kind == k.integrator)) k.integrator = entry.kind;
+        ImGui::EndCombo();
+    }
     hint("classic: the original renderer's rules (docs/CAUSTICS.md, rule by rule); progressive: our photon mapper, "
          "refining pass after pass until paused or a stopping rule. Switching re-shoots photons and re-renders, "
          "keeps the BVH");
-    if (k.integrator == IntegratorKind::progressive && model.knobs().integrator == IntegratorKind::progressive)
+    if (integrator_entry(k.integrator).accumulates && integrator_entry(model.knobs().integrator).accumulates)
         draw_refinement_controls(model, state);
 
     // Photons: 0 to what the photon map can hold in memory, on a logarithmic scale.
@@ -187,7 +191,7 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     ImGui::SameLine();
     ImGui::Checkbox("photon dots", &k.photon_dots);
     hint("show the stored photons as dots");
-    if (k.integrator == IntegratorKind::classic) {
+    if (integrator_entry(k.integrator).gi_map) {
         ImGui::Checkbox("global illumination", &k.gi);
         hint("classic --gi: a GI photon map replaces the ambient term; re-shoots photons");
         if (k.gi) {

@@ -1,6 +1,8 @@
 // The Statistics section: photons, stage times, passes, samples per pixel, rays/s, a pass plot.
 #include "ui/panels.h"
 
+#include "core/integrators/registry.h"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -37,7 +39,7 @@ void draw_stats_section(const ViewModel& model, const PanelState& state) {
     const PreviewDriver& driver = model.driver();
     const RenderStats& stats = driver.stats();
     const SessionProgress& p = driver.progress();
-    ImGui::Text("integrator: %s", model.knobs().integrator == IntegratorKind::classic ? "classic" : "progressive");
+    ImGui::Text("integrator: %s", integrator_entry(model.knobs().integrator).name);
 
     for (std::size_t l = 0; l < stats.caustic_lights.size(); ++l) {
         const LightCausticStats& c = stats.caustic_lights[l];

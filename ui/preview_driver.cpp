@@ -1,5 +1,7 @@
 #include "ui/preview_driver.h"
 
+#include "core/integrators/registry.h"
+
 #include <algorithm>
 #include <chrono>
 #include <thread>
@@ -40,7 +42,7 @@ void PreviewDriver::resume() {
 
 void PreviewDriver::set_stop_rules(const StopRules& rules) {
     if (pending_) rules.apply(pending_->options);
-    if (!started_ || job_.options.integrator != IntegratorKind::progressive) return;
+    if (!started_ || !integrator_entry(job_.options.integrator).accumulates) return;
     if (StopRules::of(job_.options) == rules && !new_rules_) return;
     new_rules_ = rules;
 }

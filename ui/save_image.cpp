@@ -1,5 +1,7 @@
 #include "ui/save_image.h"
 
+#include "core/integrators/registry.h"
+
 #include "ui/preview_driver.h"
 
 #include "core/io/image_io.h"
@@ -43,7 +45,7 @@ std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJo
     std::vector<std::pair<std::string, std::string>> text = {
         {"Software", "caustica " CAUSTICA_VERSION " (view)"},
         {"Source", scene_path},
-        {"caustica:integrator", job.options.integrator == IntegratorKind::classic ? "classic" : "progressive"},
+        {"caustica:integrator", integrator_entry(job.options.integrator).name},
         {"caustica:options", describe_non_default(job.options)},
         {"caustica:camera", "eye " + format_vector(c.eye) + " view " + format_vector(c.view) + " up " +
                                 format_vector(c.up) + " fovy " + fovy},

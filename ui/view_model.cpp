@@ -1,5 +1,7 @@
 #include "ui/view_model.h"
 
+#include "core/integrators/registry.h"
+
 #include "core/photons/photon_tracer.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene_flatten.h"
@@ -403,7 +405,7 @@ std::vector<Difference> ViewModel::differences() const {
     } catch (const std::exception&) {
         return all;  // bad options: the error banner says why
     }
-    if (job.options.integrator == IntegratorKind::progressive) {
+    if (integrator_entry(job.options.integrator).accumulates) {
         Options scene_opts = base_options(inputs_, true);
         shown.apply(scene_opts);
         const StopRules render_rules = StopRules::of(scene_opts), rules = StopRules::of(job.options);
@@ -480,7 +482,7 @@ std::vector<std::string> ViewModel::person_tokens() const {
     const RenderJob job = current_job();
     Options before = base_options(inputs_, true);
     shown.apply(before);
-    if (job.options.integrator == IntegratorKind::progressive) {
+    if (integrator_entry(job.options.integrator).accumulates) {
         const StopRules render_rules = StopRules::of(before), rules = StopRules::of(job.options);
         const bool endless = rules.passes == 0 && rules.time_limit <= 0.0 && rules.target_error <= 0.0;
         if (endless) {  // render refuses an endless run: the passes shown so far
@@ -517,7 +519,7 @@ std::vector<std::string> ViewModel::command_line_notes() const {
     if (scene_) {
         const RenderJob job = current_job();
         const StopRules rules = StopRules::of(job.options);
-        if (job.options.integrator == IntegratorKind::progressive && rules.passes == 0 && rules.time_limit <= 0.0 &&
+        if (integrator_entry(job.options.integrator).accumulates && rules.passes == 0 && rules.time_limit <= 0.0 &&
             rules.target_error <= 0.0)
             notes.push_back("the preview refines until paused; the command renders the passes shown so far");
     }
@@ -604,8 +606,8 @@ RenderJob ViewModel::compose(const JobInputs& inputs) const {
     job.apply_command_line(inputs.tokens);  // exactly as app/render_command.cpp
     if (!inputs.preset.empty()) apply_option_tokens(job.options, {"--quality", inputs.preset});
     inputs.overrides.merge(CausticKnobs::from(job.options), inputs.person_knobs).apply(job.options);
-    // The classic integrator has no passes to limit.
-    if (job.options.integrator == IntegratorKind::progressive) stop_rules_for(job, job.options).apply(job.options);
+    // An integrator that does not accumulate has no passes to limit.
+    if (integrator_entry(job.options.integrator).accumulates) stop_rules_for(job, job.options).apply(job.options);
     if (inputs.threads >= 0) job.options.threads = inputs.threads;
     int width = job.width, height = job.height;
     if (job.options.resolution_override > 0) width = height = job.options.resolution_override;
@@ -762,7 +764,7 @@ bool ViewModel::rendering() const {
 bool ViewModel::render_ends() const {
     const RenderJob job = scene_ ? current_job() : driver_.job();  // the rules to come count
     const StopRules r = StopRules::of(job.options);
-    return !(job.options.integrator == IntegratorKind::progressive && r.passes == 0 && r.time_limit <= 0.0 &&
+    return !(integrator_entry(job.options.integrator).accumulates && r.passes == 0 && r.time_limit <= 0.0 &&
              r.target_error <= 0.0);
 }
 

@@ -1,6 +1,6 @@
 // The seam between the image passes and light transport. The tile renderer (core/render/) asks an
 // Integrator for the colour along camera rays and how the pixels of an image are sampled; two
-// integrators sit behind it, chosen per render by --integrator:
+// integrators sit behind it, chosen per render by --integrator from the registry (registry.h):
 //   classic      the original renderer's rules (docs/CAUSTICS.md), core/integrators/classic.*
 //   progressive  our physically motivated photon mapper, core/integrators/progressive.*
 // Both share the scene language (docs/SCENE_LANGUAGE.md): core/integrators/shading_common.*.
@@ -93,8 +93,5 @@ public:
             if (valid[i]) out[i] = trace_camera_ray(rays[i], streams[i], counters);
     }
 };
-
-/// The integrator `kind` over `setup` (which must outlive it).
-std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const ShadingSetup& setup);
 
 }  // namespace caustica

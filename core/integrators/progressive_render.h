@@ -17,17 +17,17 @@ namespace caustica {
 
 class ProgressiveIntegrator;
 
-class ProgressiveRender {
+class ProgressiveRender final : public RenderLoop {
 public:
     /// Whether the buffers hold passes of the job last rendered (resume() may continue them).
-    bool resumable() const { return state_.valid; }
+    bool resumable() const override { return state_.valid; }
     /// Forgets the accumulation (another job, or a fresh start).
-    void invalidate() { state_.valid = false; }
+    void invalidate() override { state_.valid = false; }
 
     /// Renders passes until a stopping rule or a cancel, continuing the accumulation when it is
     /// resumable. `setup` holds everything but the pass's photon map and radii; `context` the
     /// camera and the base seed.
-    void run(RenderHost& host, const ShadingSetup& setup, const TileContext& context);
+    void run(RenderHost& host, const ShadingSetup& setup, const TileContext& context) override;
 
     const ProgressiveAccumulator& accumulator() const { return accumulator_; }
 

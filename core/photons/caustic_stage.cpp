@@ -19,13 +19,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 bool is_specular(const MaterialDesc& m) { return m.reflective || m.refractive_index.has_value() || m.air; }
 
-/// Whether the job wants a caustic map (and its projection maps).
+/// Whether the job wants a map of caustic paths (and its projection maps).
 bool caustic_map_wanted(const RenderJob& job) {
     const Options& o = job.options;
-    if (job.lights.empty()) return false;
-    // Progressive --gi: one map of every path with a bounce, whatever the materials.
-    if (o.integrator == IntegratorKind::progressive && o.gi_wanted()) return o.gi_num_photons > 0;
-    if (o.no_caustic_map) return false;
+    if (job.lights.empty() || o.no_caustic_map) return false;
     if (o.caustic_num_photons <= 0 && !o.show_projection_map) return false;
     for (const NodeDesc& node : job.scene->nodes)
         if (node.material >= 0 && is_specular(job.scene->materials[node.material])) return true;
@@ -35,7 +32,7 @@ bool caustic_map_wanted(const RenderJob& job) {
 /// Whether the job wants the classic GI map: it needs lights, not a specular object.
 bool gi_map_wanted(const RenderJob& job) {
     const Options& o = job.options;
-    return o.integrator == IntegratorKind::classic && o.gi_wanted() && o.gi_num_photons > 0 && !job.lights.empty();
+    return o.gi_wanted() && o.gi_num_photons > 0 && !job.lights.empty();
 }
 
 std::uint64_t stage_seed(const Options& o) {
@@ -58,7 +55,13 @@ std::vector<Light> job_lights(const RenderJob& job) {
     return lights;
 }
 
-bool caustics_needed(const RenderJob& job) { return caustic_map_wanted(job) || gi_map_wanted(job); }
+bool classic_photons_wanted(const RenderJob& job) { return caustic_map_wanted(job) || gi_map_wanted(job); }
+
+bool progressive_photons_wanted(const RenderJob& job) {
+    // --gi: one map of every path with a bounce, whatever the materials.
+    if (job.options.gi_wanted()) return !job.lights.empty() && job.options.gi_num_photons > 0;
+    return caustic_map_wanted(job);
+}
 
 std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_key) {
     std::uint64_t h = mix64(geometry_key ^ 0x63617573746963ULL);
@@ -71,12 +74,9 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
     return h | 1;  // never 0, which means "nothing built"
 }
 
-void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster) {
-    if (job.options.integrator == IntegratorKind::classic)
-        build_classic_stage(stage, scene, job, cancel, textures, cluster && cluster->size() > 1 ? cluster : nullptr);
-    else
-        build_progressive_stage(stage, scene, job, cancel, PhotonPassExtras{});
+void build_classic_photon_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                                const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster) {
+    build_classic_stage(stage, scene, job, cancel, textures, cluster && cluster->size() > 1 ? cluster : nullptr);
 }
 
 void build_progressive_pass(CausticStage& stage, const RenderScene& scene, const RenderJob& job,

@@ -24,10 +24,13 @@ class Cluster;
 /// The lights a job renders with, as the renderer uses them.
 std::vector<Light> job_lights(const RenderJob& job);
 
-/// Whether a job needs the photon pass: lights present, and either caustic photons requested, not
-/// disabled, with at least one reflective or transparent material on a node (no specular object:
-/// no caustics), or (classic integrator) the GI map wanted with GI photons requested.
-bool caustics_needed(const RenderJob& job);
+/// Whether a classic job needs its photon stage: lights present, and either caustic photons
+/// requested, not disabled, with at least one reflective or transparent material on a node (no
+/// specular object: no caustics), or the GI map wanted with GI photons requested.
+bool classic_photons_wanted(const RenderJob& job);
+/// Whether a progressive job needs its photon stage: as classic's caustic map, or with --gi one map
+/// of every path with a bounce (lights and GI photons are all it needs).
+bool progressive_photons_wanted(const RenderJob& job);
 
 /// Fingerprint of everything the photon maps depend on (not N, the max distance or the camera):
 /// with the integrator, and for classic whether the GI map is wanted and its photon count.
@@ -50,16 +53,14 @@ struct CausticStage {
     std::uint64_t sequence_seed = 0;  ///< progressive: the rotation of the directions' sequence
 };
 
-/// Builds the stage for a job (maps, photons, trees) for job.options.integrator. Throws
-/// InputError for scene errors found on the way (progressive: kd + ks > 1 on a specular material,
-/// naming the material's line; the classic odds are cumulative and accept it). `textures` gives
-/// the classic photons kd(uv); when null and a material has a texture, the stage loads its own.
-/// With a `cluster` of several ranks (classic only; every rank calls it), each rank shoots its share
-/// of the emission blocks and the shares are gathered: every rank then holds the maps one process
-/// builds, bit for bit. A failure on any rank throws ClusterError on every rank.
-void build_caustic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel, const TextureSet* textures = nullptr,
-                         Cluster* cluster = nullptr);
+/// The classic integrator's photon stage: its caustic map and, with --gi, its GI map
+/// (classic_photons.*). `textures` gives the photons kd(uv); when null and a material has a
+/// texture, the stage loads its own. With a `cluster` of several ranks (every rank calls it), each
+/// rank shoots its share of the emission blocks and the shares are gathered: every rank then holds
+/// the maps one process builds, bit for bit. A failure on any rank throws ClusterError on every
+/// rank.
+void build_classic_photon_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
+                                const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster);
 
 /// What a progressive photon pass adds to the job.
 struct PhotonPassExtras {
@@ -73,7 +74,7 @@ struct PhotonPassExtras {
 
 /// A progressive integrator's photon pass (docs/CAUSTICS.md, "Progressive photon mapping"): with
 /// `extras.first`, a fresh photon stream of `extras.seed` through the first pass's projection maps;
-/// without, as build_caustic_stage.
+/// without, the first pass of the job (its projection maps, photons and k-D tree).
 void build_progressive_pass(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                             const std::atomic<bool>* cancel, const PhotonPassExtras& extras);
 

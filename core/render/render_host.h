@@ -20,6 +20,7 @@ namespace caustica {
 class RenderScene;
 struct CausticStage;
 struct SessionProgress;
+struct ShadingSetup;
 
 class RenderHost {
 public:
@@ -67,6 +68,21 @@ public:
     virtual void set_stage(const char* stage) = 0;
     /// Counts photon directions considered by the pass being shot (for progress reports).
     virtual std::atomic<long long>& photon_progress() = 0;
+};
+
+/// An integrator's own render loop, made by its registry entry (core/integrators/registry.h) for a
+/// job that accumulates passes; without one the session renders its tile passes. The session keeps
+/// the loop between renders, so that resume() continues what it holds.
+class RenderLoop {
+public:
+    virtual ~RenderLoop() = default;
+    /// Whether the loop holds work of the job last rendered that a resume may continue.
+    virtual bool resumable() const = 0;
+    /// Forgets that work (another job, or a fresh start).
+    virtual void invalidate() = 0;
+    /// Renders until a stopping rule or a cancel, continuing the held work when resumable.
+    /// `setup` holds the scene-wide shading inputs; `context` the camera and the base seed.
+    virtual void run(RenderHost& host, const ShadingSetup& setup, const TileContext& context) = 0;
 };
 
 }  // namespace caustica

@@ -3,7 +3,7 @@
 #include "core/scene/camera.h"
 #include "core/photons/caustic_stage.h"
 #include "core/util/denormals.h"
-#include "core/integrators/integrator.h"
+#include "core/integrators/registry.h"
 #include "core/render/random.h"
 #include "core/geometry/render_scene.h"
 #include "core/scene/scene_flatten.h"
@@ -125,7 +125,12 @@ void RenderSession::set_job(const RenderJob& job) {
     if (size > 0) job_.width = job_.height = size;
     geometry_key_ = geometry_fingerprint(job_);
     caustic_key_ = caustics_needed(job_) ? caustic_fingerprint(job_, geometry_key_) : 0;
-    progressive_render_.invalidate();  // any change of job starts the accumulation again
+    const IntegratorEntry& integrator = integrator_entry(job_.options.integrator);
+    if (!loop_ || loop_kind_ != integrator.kind) {
+        loop_ = integrator.make_loop ? integrator.make_loop() : nullptr;
+        loop_kind_ = integrator.kind;
+    }
+    if (loop_) loop_->invalidate();  // any change of job starts the accumulation again
 }
 
 void RenderSession::set_stop_rules(int passes, double time_limit, double target_error) {
@@ -140,7 +145,7 @@ void RenderSession::set_stop_rules(int passes, double time_limit, double target_
 bool RenderSession::resume() {
     cancel();
     if (worker_.joinable()) worker_.join();
-    if (!progressive_render_.resumable() || !job_.options.accumulates() || image_.width != job_.width ||
+    if (!loop_ || !loop_->resumable() || !job_.options.accumulates() || image_.width != job_.width ||
         image_.height != job_.height)
         return false;
     resuming_ = true;
@@ -171,7 +176,7 @@ void RenderSession::warn_once(const std::string& warning) {
 
 void RenderSession::warn_about_options() {
     const Options& o = job_.options;
-    if (o.integrator == IntegratorKind::classic && (o.passes != 1 || o.time_limit > 0.0 || o.target_error > 0.0))
+    if (!integrator_entry(o.integrator).accumulates && (o.passes != 1 || o.time_limit > 0.0 || o.target_error > 0.0))
         warn_once("--passes, --time and --target-error need --integrator progressive: the classic integrator "
                   "renders its passes as the original did; ignored");
 }
@@ -248,19 +253,17 @@ void RenderSession::prepare_caustics() {
     set_stage("shooting photons");
     auto fresh = std::make_unique<CausticStage>();
     photon_progress_ = 0;
-    if (job_.options.integrator == IntegratorKind::progressive) {  // reports its progress
-        const Options& o = job_.options;
-        {
-            std::lock_guard lock(mutex_);
-            progress_.photons_total = (o.gi_wanted() ? o.gi_num_photons : o.caustic_num_photons) *
-                                      static_cast<long long>(job_.lights.size());
-        }
-        PhotonPassExtras extras;
-        extras.progress = &photon_progress_;
-        build_progressive_pass(*fresh, *scene_, job_, &cancel_requested_, extras);
-    } else {
-        build_caustic_stage(*fresh, *scene_, job_, &cancel_requested_, textures_.get(), cluster_);
+    const IntegratorEntry& integrator = integrator_entry(job_.options.integrator);
+    if (integrator.photon_directions) {  // it reports its progress
+        std::lock_guard lock(mutex_);
+        progress_.photons_total = integrator.photon_directions(job_);
     }
+    PhotonStageInputs inputs;
+    inputs.cancel = &cancel_requested_;
+    inputs.textures = textures_.get();
+    inputs.cluster = cluster_ && cluster_->size() > 1 ? cluster_ : nullptr;
+    inputs.progress = &photon_progress_;
+    integrator.build_photons(*fresh, *scene_, job_, inputs);
     fresh->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
     std::lock_guard lock(mutex_);  // published at once: the preview shows maps and counts early
     caustics_ = std::move(fresh);
@@ -284,7 +287,7 @@ void RenderSession::publish_caustic_stats() {
 void RenderSession::start() {
     cancel();
     if (worker_.joinable()) worker_.join();
-    if (!resuming_) progressive_render_.invalidate();
+    if (!resuming_ && loop_) loop_->invalidate();
     resuming_ = false;
     cancel_requested_ = false;
     error_ = nullptr;
@@ -325,7 +328,7 @@ void RenderSession::run() {
             if (cancel_requested_) return;
             // An accumulating preview shows direct light at once: a coarse pass before photons
             // that are not cached yet are shot.
-            direct_first_ = progressive_ && job_.options.accumulates() && !progressive_render_.resumable() && caustic_key_ != 0 &&
+            direct_first_ = progressive_ && job_.options.accumulates() && !(loop_ && loop_->resumable()) && caustic_key_ != 0 &&
                             !(caustics_ && caustics_->key == caustic_key_);
             if (direct_first_) render_direct_preview(arena);
             if (cancel_requested_) return;
@@ -575,9 +578,9 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     TileContext context = make_context(options, camera, *integrator);
     PassRunner runner{*this, arena, {}};
 
-    if (options.accumulates()) {
+    if (options.accumulates() && loop_) {
         Host host(*this, runner);
-        progressive_render_.run(host, setup, context);
+        loop_->run(host, setup, context);
     } else if (distributed()) {
         render_distributed_classic(runner, context);
     } else {
@@ -909,23 +912,17 @@ std::optional<SurfaceInspection> RenderSession::inspect(const Ray& ray, const Op
     }
     // The caustic gather as the integrator does it, at the shading normal facing the ray.
     const glm::vec3 n = glm::dot(hit.normal, ray.direction) > 0.0f ? -hit.normal : hit.normal;
-    const int k = std::max(options.caustic_num_neighbours, 1);  // validated: at most a million
-    const float max_distance = static_cast<float>(options.effective_caustic_max_dist());
     std::shared_ptr<const CausticStage> stage;
     {
         std::lock_guard lock(mutex_);  // caustics_ is replaced under it; the query runs outside
         stage = caustics_;
     }
     if (!stage || !stage->map || stage->map->size() == 0) return out;
-    std::vector<Neighbour> scratch(static_cast<std::size_t>(k));
-    const PhotonMap& map = *stage->map;
-    out.map_photons = map.size();
-    if (options.integrator == IntegratorKind::progressive) {
-        const PhotonFilter filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
-        out.caustic = out.kd * saturate(map.estimate(hit.position, n, k, max_distance, filter, scratch.data()));
-    } else {
-        out.caustic = saturate(map.classic_estimate(hit.position, k, max_distance, scratch.data()).value);
-    }
+    // N is validated: at most a million.
+    std::vector<Neighbour> scratch(static_cast<std::size_t>(std::max(options.caustic_num_neighbours, 1)));
+    out.map_photons = stage->map->size();
+    out.caustic =
+        integrator_entry(options.integrator).caustic_readout(*stage->map, hit.position, n, out.kd, options, scratch.data());
     return out;
 }
 

@@ -11,7 +11,7 @@
 #include "core/scene/scene_desc.h"
 #include "core/render/tile_renderer.h"
 #include "core/integrators/progressive_accumulator.h"
-#include "core/integrators/progressive_render.h"
+#include "core/render/render_host.h"
 #include "core/render/cluster.h"
 
 #include <tbb/task_arena.h>
@@ -224,7 +224,8 @@ private:
     Image image_, first_pass_;
     std::vector<std::uint8_t> refine_;  // corner_grid: pixels the anti-aliasing pass refines
     // The progressive integrator's loop, kept across start()s so that resume() continues it.
-    ProgressiveRender progressive_render_;
+    std::unique_ptr<RenderLoop> loop_;  // the job's integrator's own loop (null: the tile passes)
+    IntegratorKind loop_kind_ = IntegratorKind::classic;  // the integrator loop_ was made for
     bool resuming_ = false;
     bool direct_first_ = false;  // this render showed a direct-light preview before its photons
     std::atomic<long long> photon_progress_{0};

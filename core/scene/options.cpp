@@ -14,6 +14,11 @@ namespace {
 
 /// One row of the option table.
 struct OptionSpec {
+    OptionSpec(std::string long_name_, char short_name_, const char* value_name_, const char* group_, const char* help_,
+               std::function<void(Options&, const std::string&)> set_, std::function<std::string(const Options&)> get_)
+        : long_name(std::move(long_name_)), short_name(short_name_), value_name(value_name_), group(group_),
+          help(help_), set(std::move(set_)), get(std::move(get_)) {}
+
     std::string long_name;   ///< without "--"
     char short_name;         ///< 0 when none
     const char* value_name;  ///< nullptr for a flag

@@ -1,5 +1,6 @@
 #include "core/scene/scene_validate.h"
 
+#include "core/integrators/registry.h"
 #include "core/photons/caustic_stage.h"
 #include "core/geometry/shapes.h"
 #include "core/scene/source_location.h"

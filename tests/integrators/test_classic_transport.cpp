@@ -4,6 +4,7 @@
 // hand, and switching integrator in a session.
 #include "core/geometry/render_scene.h"
 #include "core/integrators/classic.h"
+#include "core/integrators/registry.h"
 #include "core/photons/caustic_stage.h"
 #include "core/photons/classic_photons.h"
 #include "core/scene/camera.h"

@@ -1,6 +1,7 @@
 // Caustics: the k-D tree against brute force, the energy rule and radiance estimate against
 // closed forms, and the virtual-light test of the whole photon pipeline.
 #include "core/scene/camera.h"
+#include "core/integrators/registry.h"
 #include "core/photons/caustic_stage.h"
 #include "core/photons/photon_kdtree.h"
 #include "core/photons/photon_map.h"

@@ -1,6 +1,7 @@
 // The classic photon pass and the classic k-NN search and estimate (docs/CAUSTICS.md, from
 // "photon emission" to "estimate"): each rule of the original renderer, with a test that fails
 // without it.
+#include "core/integrators/registry.h"
 #include "core/photons/caustic_stage.h"
 #include "core/photons/classic_photons.h"
 #include "core/photons/photon_kdtree.h"

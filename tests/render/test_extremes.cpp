@@ -1,5 +1,6 @@
 // Numerical stability at the extremes: every case gives a correct image or a clear error, never a
 // NaN pixel, a hang or a crash. Each test backs one row of docs/ACCURACY.md.
+#include "core/integrators/registry.h"
 #include "core/photons/caustic_stage.h"
 #include "core/scene/source_location.h"
 #include "tests/test_support.h"

@@ -7,6 +7,7 @@
 //     same bits when it feeds no stage up to the image.
 // A missing declaration would be a stale cache (the preview showing an old photon map); a needless
 // one, work redone for nothing.
+#include "core/integrators/registry.h"
 #include "core/photons/caustic_stage.h"
 #include "core/geometry/render_scene.h"
 #include "core/render/render_session.h"
