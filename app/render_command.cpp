@@ -1,32 +1,28 @@
+// The flow of `caustica render`: signals, rendering each frame with its progress, and the paths
+// under mpirun; planning is in app/render_plan.cpp, writing in app/render_output.cpp.
 #include "app/render_command.h"
-
-#include "core/integrators/registry.h"
 
 #include "app/animation.h"
 #include "app/progress_bar.h"
-#include "core/lua/scene_loader.h"
-#include "core/io/image_io.h"
-#include "core/io/png_io.h"
+#include "app/render_interrupt.h"
+#include "app/render_output.h"
+#include "app/render_plan.h"
+#include "core/io/atomic_file.h"
 #include "core/render/random.h"
 #include "core/render/render_session.h"
-#include "core/scene/camera.h"
-#include "core/scene/source_location.h"
 #include "core/render/cluster.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
-#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <map>
 #include <new>
 #include <optional>
 #include <random>
-#include <set>
 
 #include <tbb/info.h>
 #include <stdexcept>
@@ -34,9 +30,10 @@
 #include <unistd.h>
 
 namespace caustica {
-namespace {
 
 std::atomic<bool> interrupted{false};
+
+namespace {
 
 /// The first Ctrl-C or SIGTERM asks every stage to stop (within a second); a second one leaves at
 /// once, removing the temporary of an image being written (PNG, EXR or PFM) so that nothing
@@ -45,205 +42,6 @@ extern "C" void on_interrupt(int) {
     if (!interrupted.exchange(true)) return;
     remove_output_temporaries_from_signal_handler();
     ::_exit(exit_interrupted);
-}
-
-struct RenderArguments {
-    std::vector<std::string> option_tokens;  ///< everything but the scene and -o
-    std::string scene;
-    std::string output;                       ///< -o, or "" for the names the script gives
-    std::vector<std::string> allow_read;      ///< --allow-read folders (command line only)
-    AnimationRequest animation;               ///< --frames, --orbit-frames (command line only)
-    bool help = false;
-};
-
-RenderArguments parse_arguments(const std::vector<std::string>& args) {
-    RenderArguments parsed;
-    std::vector<std::string> tokens;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "-h" || a == "--help") {
-            parsed.help = true;
-        } else if (a == "-o" || a == "--output") {
-            if (i + 1 >= args.size()) throw InputError(a + ": expects a file name");
-            parsed.output = args[++i];
-        } else if (a.rfind("--output=", 0) == 0) {
-            parsed.output = a.substr(9);
-        } else if (a == "--allow-read") {
-            if (i + 1 >= args.size()) throw InputError(a + ": expects a folder");
-            parsed.allow_read.push_back(args[++i]);
-        } else if (a.rfind("--allow-read=", 0) == 0) {
-            parsed.allow_read.push_back(a.substr(13));
-        } else {
-            tokens.push_back(a);
-        }
-    }
-    if (parsed.help) return parsed;
-    parsed.animation = take_animation_arguments(tokens);
-    std::vector<std::string> positional;
-    Options check;
-    apply_option_tokens(check, tokens, &positional);  // validates every option before any work
-    if (positional.empty()) throw InputError("render: no scene file given (usage: caustica render [options] SCENE.lua)");
-    if (positional.size() > 1) throw InputError("render: one scene at a time, got '" + positional[0] + "' and '" + positional[1] + "'");
-    parsed.scene = positional[0];
-    for (const std::string& t : tokens)
-        if (t != parsed.scene) parsed.option_tokens.push_back(t);
-    if (!parsed.output.empty() && !image_format_of(parsed.output))
-        throw InputError("-o " + parsed.output + ": the output must end in .png, .exr or .pfm");
-    return parsed;
-}
-
-/// Refuses, before any rendering, an output that cannot be written. A bad name is the scene's
-/// error (exit 2); a missing or unwritable folder is the environment's, exit 1 like a write that
-/// fails after rendering (README, exit codes). Also removes stale temporaries of killed runs, once
-/// per folder (`cleaned` holds the folders done: an animation writes many frames to one folder).
-void check_writable(const std::string& path, const RenderJob& job, bool from_command_line, std::set<std::string>& cleaned) {
-    std::filesystem::path p(path);
-    if (!image_format_of(path))
-        throw InputError(job.where, "gr.render: output '" + path + "' must end in .png, .exr or .pfm");
-    const std::string prefix = from_command_line ? "-o: cannot write '" + path + "': "
-                                                 : job.where.str() + ": gr.render: cannot write '" + path + "': ";
-    std::filesystem::path dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir))
-        throw std::runtime_error(prefix + (std::filesystem::exists(dir, ec) ? "'" + dir.string() + "' is not a folder"
-                                                                            : "folder '" + dir.string() + "' does not exist"));
-    if (::access(dir.c_str(), W_OK) != 0)
-        throw std::runtime_error(prefix + "folder '" + dir.string() + "' is not writable");
-    if (const std::string problem = output_file_problem(path); !problem.empty()) throw std::runtime_error(prefix + problem);
-    if (cleaned.insert(dir.string()).second) remove_stale_output_temporaries(dir.string());
-}
-
-/// "W x H" as a job will render it.
-std::string job_size(const RenderJob& job) {
-    const int r = job.options.resolution_override;
-    return std::to_string(r ? r : job.width) + " x " + std::to_string(r ? r : job.height);
-}
-
-/// printf into a string.
-[[gnu::format(printf, 2, 3)]] void appendf(std::string& out, const char* format, ...) {
-    char line[512];
-    va_list args;
-    va_start(args, format);
-    const int n = std::vsnprintf(line, sizeof line, format, args);
-    va_end(args);
-    if (n > 0) out.append(line, static_cast<std::size_t>(std::min<int>(n, sizeof line - 1)));
-}
-
-/// What -t and -S print for a render (text, so that a rank can send it to rank 0).
-std::string stats_text(const RenderStats& stats, bool timing, bool statistics) {
-    std::string out;
-    if (timing) {
-        appendf(out, "stage times:\n");
-        for (const StageTime& s : stats.stages)
-            appendf(out, "  %-22s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? "  (cached)" : "");
-        appendf(out, "  %-22s %9.3f s\n", "total", stats.total_seconds);
-    }
-    if (statistics) {
-        const RayCounters& r = stats.rays;
-        const double seconds = stats.total_seconds > 0 ? stats.total_seconds : 1e-9;
-        appendf(out, "statistics:\n");
-        appendf(out, "  integrator             %9s\n", stats.integrator.c_str());
-        appendf(out, "  threads                %9d\n", stats.threads);
-        appendf(out, "  analytic primitives    %9zu\n", stats.scene.analytic_primitives);
-        appendf(out, "  mesh instances         %9zu (%zu meshes, %zu triangles stored, %zu in the world)\n",
-                     stats.scene.mesh_instances, stats.scene.unique_meshes, stats.scene.triangles_stored, stats.scene.triangles_instanced);
-        appendf(out, "  CSG objects            %9zu (%zu primitives inside)\n", stats.scene.csg_objects, stats.scene.csg_leaves);
-        appendf(out, "  camera samples         %9llu\n", static_cast<unsigned long long>(r.samples));
-        appendf(out, "  anti-aliased pixels    %9llu\n", static_cast<unsigned long long>(r.supersampled_pixels));
-        appendf(out, "  rays: primary          %9llu\n", static_cast<unsigned long long>(r.primary));
-        appendf(out, "        shadow           %9llu\n", static_cast<unsigned long long>(r.shadow));
-        appendf(out, "        reflected        %9llu\n", static_cast<unsigned long long>(r.reflected));
-        appendf(out, "        refracted        %9llu\n", static_cast<unsigned long long>(r.refracted));
-        appendf(out, "        total            %9llu (%.2f M rays/s)\n",
-                     static_cast<unsigned long long>(r.total_rays()), r.total_rays() / seconds * 1e-6);
-        for (std::size_t l = 0; l < stats.caustic_lights.size(); ++l) {
-            const LightCausticStats& c = stats.caustic_lights[l];
-            std::fprintf(stderr,
-                         "  caustic photons, light %zu: %lld directions, %lld traced, %lld stored; projection map "
-                         "%s (occupied %.1f%% of the sphere)\n",
-                         l + 1, c.candidates, c.traced, c.stored, c.projection_map_used ? "used" : "not used",
-                         100.0 * c.occupied_fraction);
-        }
-        if (stats.caustic_photons > 0)
-            appendf(out, "  caustic map            %9zu photons, %.1f MiB\n", stats.caustic_photons,
-                         stats.caustic_map_bytes / 1048576.0);
-        for (std::size_t l = 0; l < stats.gi_lights.size(); ++l)
-            appendf(out, "  GI photons, light %zu: %lld directions, %lld traced, %lld stored\n", l + 1,
-                         stats.gi_lights[l].candidates, stats.gi_lights[l].traced, stats.gi_lights[l].stored);
-        if (stats.gi_photons > 0)
-            appendf(out, "  GI map                 %9zu photons, %.1f MiB\n", stats.gi_photons,
-                         stats.gi_map_bytes / 1048576.0);
-        if (r.gathers > 0)
-            appendf(out, "  radiance estimates     %9llu (%.3f s summed over threads, %.0f%% of render thread time)\n",
-                         static_cast<unsigned long long>(r.gathers), r.gather_seconds,
-                         100.0 * r.gather_seconds / (seconds * std::max(1, stats.threads)));
-        if (const RenderStats::Accumulation& a = stats.accumulation; a.passes > 0) {
-            appendf(out, "  progressive passes     %9d (stopped by %s)\n", a.passes, a.stopped_by.c_str());
-            appendf(out, "  photons over passes    %9lld directions\n", a.photons_emitted);
-            appendf(out, "  gather radius          %9.4g first, %.4g now\n", a.first_radius, a.radius);
-            if (a.error >= 0.0)
-                appendf(out, "  estimated error        %9.4f relative RMSE over the caustics (noise %.4f, bias %.4f)\n",
-                             a.error, a.noise, a.bias);
-            else
-                appendf(out, "  estimated error        %9s (needs 2 passes and a caustic)\n", "unknown");
-            appendf(out, "  accumulation buffers   %9.1f MiB\n", a.bytes / 1048576.0);
-        }
-        if (!timing)  // -t has just printed them: once is enough
-            for (const StageTime& s : stats.stages)
-                appendf(out, "  time: %-16s %9.3f s%s\n", s.name.c_str(), s.seconds, s.cached ? " (cached)" : "");
-    }
-    return out;
-}
-
-void print_stats(const RenderStats& stats, bool timing, bool statistics) {
-    std::fputs(stats_text(stats, timing, statistics).c_str(), stderr);
-}
-
-/// How the job's options write its image (--srgb, --tonemap, --exposure, --exr-pixel).
-ImageWriteSettings write_settings(const Options& o) {
-    ImageWriteSettings settings;
-    settings.encoding = o.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear;
-    settings.tonemap = o.tonemap;
-    settings.exposure_stops = static_cast<float>(o.exposure);
-    settings.exr_pixel = o.exr_pixel;
-    return settings;
-}
-
-std::string format_vector(const glm::dvec3& v) {
-    char text[96];
-    std::snprintf(text, sizeof text, "%.9g %.9g %.9g", v.x, v.y, v.z);
-    return text;
-}
-
-/// The PNG text chunks / EXR string attributes of a rendered image: what made it (the keys of
-/// docs/OUTPUT.md; the preview's save writes the same ones, ui/save_image.cpp).
-ImageMetadata render_metadata(const RenderJob& job, const std::string& scene_path, const RenderStats& stats,
-                              const std::string& frame) {
-    const Options& o = job.options;
-    const CameraDesc& c = job.camera;
-    char seconds[32], fovy[32];
-    std::snprintf(seconds, sizeof seconds, "%.3f", stats.total_seconds);
-    std::snprintf(fovy, sizeof fovy, "%.9g", c.fovy_degrees);
-    const int r = o.resolution_override;
-    ImageMetadata text = {{"Software", "caustica " CAUSTICA_VERSION},
-                          {"Source", scene_path},
-                          {"caustica:integrator", integrator_entry(o.integrator).name},
-                          {"caustica:options", describe_non_default(o)},
-                          {"caustica:camera", "eye " + format_vector(c.eye) + " view " + format_vector(c.view) + " up " +
-                                                  format_vector(c.up) + " fovy " + fovy},
-                          {"caustica:size", std::to_string(r ? r : job.width) + "x" + std::to_string(r ? r : job.height)},
-                          {"caustica:render-seconds", seconds}};
-    if (!frame.empty()) text.push_back({"caustica:frame", frame});
-    if (const RenderStats::Accumulation& a = stats.accumulation; a.passes > 0) {
-        text.push_back({"caustica:passes", std::to_string(a.passes)});
-        text.push_back({"caustica:photons", std::to_string(a.photons_emitted)});
-        if (a.error >= 0.0) {
-            char error[32];
-            std::snprintf(error, sizeof error, "%.4f", a.error);
-            text.push_back({"caustica:estimated-error", error});
-        }
-    }
-    return text;
 }
 
 /// Renders one job to completion (or interruption), showing its progress when `show`. Returns
@@ -287,25 +85,6 @@ int render_frame(RenderSession& session, const RenderJob& job, const std::string
     return complete && !interrupted ? exit_ok : exit_interrupted;
 }
 
-/// Writes a rendered frame and reports it (-t/-S: `stats`, or the text another rank made of
-/// its own). Returns an exit code (write errors throw).
-int write_frame(const RenderJob& job, const std::string& scene_path, const std::string& path, const std::string& frame,
-                const Image& image, const RenderStats& stats, const std::string* stats_from_rank = nullptr) {
-    const Options& o = job.options;
-    try {
-        write_image_atomic(path, image, write_settings(o), render_metadata(job, scene_path, stats, frame), &interrupted);
-    } catch (const ImageWriteCancelled&) {
-        if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
-        return exit_interrupted;
-    }
-    if (stats_from_rank)
-        std::fputs(stats_from_rank->c_str(), stderr);
-    else
-        print_stats(stats, o.timing, o.stats);
-    if (!o.silent) std::printf("wrote %s (%d x %d, %.2f s)\n", path.c_str(), image.width, image.height, stats.total_seconds);
-    return exit_ok;
-}
-
 /// Renders one job and writes its image.
 int render_job(RenderSession& session, const RenderJob& job, const std::string& scene_path, const std::string& path,
                const std::string& frame) {
@@ -314,111 +93,6 @@ int render_job(RenderSession& session, const RenderJob& job, const std::string& 
         return exit_interrupted;
     }
     return write_frame(job, scene_path, path, frame, session.image(), session.stats());
-}
-
-/// The distance from the eye of `job` to the first surface its central view ray hits (0 when it
-/// hits nothing): the target --orbit-frames turns around, found as the preview finds its orbit's
-/// target. Builds the scene, which the frames then reuse (the session caches it by its geometry's
-/// fingerprint). Rethrows scene errors.
-double view_axis_target(RenderSession& session, const RenderJob& job) {
-    session.set_job(job);
-    session.prepare_geometry();
-    const int r = job.options.resolution_override;
-    const int width = r ? r : job.width, height = r ? r : job.height;
-    const Camera camera(job.camera, width, height);
-    glm::vec3 point;
-    if (!session.pick(camera.generate(0.5f * width, 0.5f * height), point)) return 0.0;
-    return glm::length(glm::dvec3(point) - job.camera.eye);
-}
-
-InputError out_of_memory(const RenderJob& job, const std::string& path) {
-    // The scene asks for more than the machine can hold: a scene error (exit 2, README).
-    return InputError(job.where, "gr.render: not enough memory to render '" + path + "' (" + job_size(job) +
-                                     " pixels); lower the resolution or the photon count");
-}
-
-/// What a render command renders, once its arguments, script and frames are checked.
-struct RenderPlan {
-    RenderArguments parsed;
-    AnimationPlan plan;
-    bool numbered = false;  ///< frames are numbered in the images' metadata
-};
-
-/// Everything before rendering: arguments, the script, the frames, the outputs (checked where
-/// they are written: `writes`), the orbit's target. Returns an exit code to end with at once
-/// (help, interrupted), or -1 to render.
-int plan_render(const std::vector<std::string>& args, RenderSession& session, bool writes, RenderPlan& out) {
-    RenderArguments& parsed = out.parsed;
-    parsed = parse_arguments(args);
-    if (parsed.help) {
-        if (writes) std::printf("%s", render_help().c_str());
-        return exit_ok;
-    }
-    Options command_line;
-    apply_option_tokens(command_line, parsed.option_tokens);
-    if (!std::filesystem::is_regular_file(parsed.scene))
-        throw InputError(parsed.scene + ": no such scene file");
-
-    LoadSettings settings;
-    settings.timeout_seconds = command_line.script_timeout;
-    settings.memory_limit_bytes = static_cast<std::size_t>(command_line.script_memory_mib) << 20;
-    settings.allow_read = parsed.allow_read;
-    settings.output_given = !parsed.output.empty();
-    settings.cancel = &interrupted;
-    SceneScript script;
-    try {
-        script = load_scene_script(parsed.scene, settings);
-    } catch (const ScriptCancelled&) {
-        if (writes) std::fprintf(stderr, "caustica: interrupted while running %s\n", parsed.scene.c_str());
-        return exit_interrupted;
-    } catch (const std::bad_alloc&) {
-        throw InputError(parsed.scene + ": not enough memory to run the script");
-    }
-    if (writes && !command_line.silent)
-        for (const std::string& w : script.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (script.renders.empty()) throw InputError(parsed.scene + ": the script calls no gr.render; nothing to render");
-
-    // The command line wins over gr.option: re-apply its tokens on top of each job's options.
-    std::vector<RenderJob> jobs = script.renders;
-    for (RenderJob& job : jobs) {
-        job.apply_command_line(parsed.option_tokens);
-        if (!writes) job.options.silent = true;  // under mpirun rank 0 speaks for every rank
-    }
-    // The frames: every gr.render, or --frames of them, or --orbit-frames views of the first.
-    out.plan = plan_animation(parsed.animation, jobs, parsed.output);
-    if (writes) {
-        std::set<std::string> cleaned;
-        for (const AnimationFrame& frame : out.plan.frames) {
-            if (interrupted) {  // 100000 frames take seconds to check
-                std::fprintf(stderr, "caustica: interrupted; no frame written\n");
-                return exit_interrupted;
-            }
-            check_writable(frame.path, frame.job, !parsed.output.empty(), cleaned);
-        }
-    }
-    for (const AnimationFrame& frame : out.plan.frames) {
-        const Options& o = frame.job.options;
-        if (integrator_entry(o.integrator).accumulates && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
-            throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
-    }
-    if (writes && !jobs[0].options.silent)
-        for (const std::string& w : out.plan.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    // Frames are numbered in the images' metadata when there is more than one to number.
-    out.numbered = parsed.animation.any() || jobs.size() > 1;
-    if (out.plan.needs_target) {
-        double distance = 0.0;
-        try {
-            distance = view_axis_target(session, jobs[0]);
-        } catch (const std::bad_alloc&) {
-            throw out_of_memory(jobs[0], out.plan.frames.front().path);
-        }
-        if (interrupted) {
-            if (writes && !jobs[0].options.silent) std::fprintf(stderr, "caustica: interrupted; no frame written\n");
-            return exit_interrupted;
-        }
-        aim_orbit(out.plan, distance);
-    }
-    return -1;
 }
 
 /// Rank 0 tells the user what stopped every rank (an interruption once: `said` when it was);

@@ -145,10 +145,10 @@ void ViewModel::watch_current() {
 // --- the job
 
 RenderJob ViewModel::compose(const JobInputs& inputs) const {
-    // As `caustica render SCENE [tokens]` does (app/render_command.cpp): the command line's options
+    // As `caustica render SCENE [tokens]` does (app/render_plan.cpp): the command line's options
     // over the script's gr.option, then what the person picked, as the options Copy command line adds.
     RenderJob job = inputs.scene->renders[inputs.render_index];
-    job.apply_command_line(inputs.tokens);  // exactly as app/render_command.cpp
+    job.apply_command_line(inputs.tokens);  // exactly as app/render_plan.cpp
     if (!inputs.preset.empty()) apply_option_tokens(job.options, {"--quality", inputs.preset});
     inputs.overrides.merge(CausticKnobs::from(job.options), inputs.person_knobs).apply(job.options);
     // An integrator that does not accumulate has no passes to limit.

@@ -370,7 +370,7 @@ void RenderSession::run_distributed(tbb::task_arena& arena, int threads) {
             throw;
         } catch (const InputError& e) {
             error = std::make_exception_ptr(job_.located_option_error(e));
-        } catch (const std::bad_alloc&) {  // said as one process says it (app/render_command.cpp)
+        } catch (const std::bad_alloc&) {  // said as one process says it (app/render_plan.cpp)
             error = std::make_exception_ptr(
                 InputError(job_.where, "gr.render: not enough memory to render " + std::to_string(job_.width) + " x " +
                                            std::to_string(job_.height) +

@@ -49,7 +49,7 @@ std::string options_text(const Options& o) {
            exact_number(o.time_limit) + " err " + exact_number(o.target_error) + " minw " + exact_number(o.min_weight);
 }
 
-/// The options `caustica render SCENE TOKENS` renders the first gr.render with (app/render_command.cpp:
+/// The options `caustica render SCENE TOKENS` renders the first gr.render with (app/render_plan.cpp:
 /// the script's gr.option, then the command line over them); resolution_override is folded into
 /// the size by both, so it is left out.
 Options render_options(const std::string& scene, const std::vector<std::string>& tokens) {
