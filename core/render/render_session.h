@@ -1,6 +1,10 @@
 // A render session: the lifecycle every front end drives (STYLE.md 3 and 4).
 //   set_job -> prepare (build what is stale) -> start (background) -> progress() -> cancel -> wait
-// Stages are cached by what they depend on: the BVH by the geometry, the image by everything.
+// Stages are cached by what they depend on (core/render/fingerprints.h): the BVH by the geometry,
+// the photons by that and the options that feed them. The session keeps the lifecycle, the stage
+// cache, the threads, cancellation and tile publication; an integrator's own loop renders through
+// a RenderHost (core/render/render_host.h). Its steps with other ranks are in session_cluster.cpp;
+// the hover readout is core/render/scene_inspector.*.
 // The batch command runs a session to completion; the preview app drives the same object.
 #pragma once
 
@@ -12,7 +16,9 @@
 #include "core/render/tile_renderer.h"
 #include "core/integrators/progressive_accumulator.h"
 #include "core/render/render_host.h"
+#include "core/render/scene_inspector.h"
 #include "core/render/cluster.h"
+#include "core/render/fingerprints.h"
 
 #include <tbb/task_arena.h>
 
@@ -66,22 +72,6 @@ struct SessionProgress {
     /// The photon stage of the current pass: directions considered so far, of how many.
     long long photons_done = 0, photons_total = 0;
     std::string stopped_by;  ///< why accumulation stopped: "passes", "time", "target error", "cancelled"
-};
-
-/// What a ray meets first, for the preview's hover readout (RenderSession::inspect).
-struct SurfaceInspection {
-    glm::vec3 point{0.0f};
-    float distance = 0.0f;          ///< ray parameter of the hit
-    std::string object;             ///< the scene node whose primitive was hit ("" when not identified)
-    std::string object_where;       ///< its script line ("file:line")
-    int material = -1;              ///< index into SceneDesc::materials, -1 = the default material
-    std::string material_where;     ///< the gr.material call's line
-    glm::vec3 kd{0.0f}, ks{0.0f};
-    bool reflective = false, transparent = false;
-    /// Radiance the caustic photon map adds there, as the integrator gathers it (kd x estimate
-    /// for progressive, the classic estimate for classic); empty without a caustic map.
-    std::optional<glm::vec3> caustic;
-    std::size_t map_photons = 0;    ///< photons in the caustic map used
 };
 
 /// Tile edge length in pixels.
@@ -213,11 +203,7 @@ private:
     std::shared_ptr<CausticStage> caustics_;  // replaced whole under mutex_, never changed after: inspect() keeps one
     std::shared_ptr<const RenderScene> scene_;  // replaced under mutex_ (pick reads it)
     std::shared_ptr<const RenderJob> inspect_job_;  // the job scene_ was built from, replaced with it under mutex_
-    struct InspectIndex;  // nodes and materials of scene_'s primitives, for inspect()
-    static std::shared_ptr<const InspectIndex> make_inspect_index(const RenderJob& job);
-    mutable std::mutex inspect_mutex_;  // guards the two below
-    mutable std::shared_ptr<const InspectIndex> inspect_index_;
-    mutable std::shared_ptr<const RenderJob> index_job_;  // the job inspect_index_ was built for
+    SceneInspector inspector_;  // inspect(): its node index of the built scene
     std::unique_ptr<TextureSet> textures_;
     std::vector<std::string> warnings_;
 
@@ -249,15 +235,5 @@ private:
     std::uint64_t generation_ = 0;
     double start_time_ = 0.0;
 };
-
-/// Fingerprint of what a job renders, by content (mesh vertices, not where they are in memory;
-/// the options that change the image, not -j, -s, --silent or the script's limits): the same in
-/// every process that loaded the same scene with the same options. Ranks compare it before they
-/// render together.
-std::uint64_t job_content_fingerprint(const RenderJob& job);
-
-/// Fingerprint of everything the BVH and materials depend on (not the camera, lights or options
-/// other than the convention).
-std::uint64_t geometry_fingerprint(const RenderJob& job);
 
 }  // namespace caustica
