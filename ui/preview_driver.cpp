@@ -58,8 +58,8 @@ bool PreviewDriver::first_full_pass_done() const {
     if (progress_.finished) return true;
     if (job_.options.accumulates()) return accumulation_.passes_done >= 1;
     const std::size_t per_pass = tiles_per_pass(progress_);
-    const std::size_t full = per_pass * (settings_.progressive ? 2 : 1);
-    return per_pass > 0 && progress_.tiles_done >= full && progress_.passes >= (settings_.progressive ? 2 : 1);
+    const std::size_t full = per_pass * (settings_.coarse_preview ? 2 : 1);
+    return per_pass > 0 && progress_.tiles_done >= full && progress_.passes >= (settings_.coarse_preview ? 2 : 1);
 }
 
 std::optional<std::string> PreviewDriver::take_error() {
@@ -217,7 +217,7 @@ void PreviewDriver::restart() {
         // The stopped render's last tiles are still the newest: copy them now. From start() on,
         // every tile published belongs to the new render.
         fetch();
-        session_.set_progressive(settings_.progressive, settings_.preview_block);
+        session_.set_coarse_preview(settings_.coarse_preview, settings_.preview_block);
         session_.set_job(job_);  // the worker has stopped: joining it is immediate
         session_.start();
     } catch (const std::exception& e) {

@@ -44,7 +44,7 @@ struct StopRules {
 
 /// Tuning of the restart policy.
 struct DriverSettings {
-    bool progressive = true;               ///< coarse pass before the full passes
+    bool coarse_preview = true;            ///< coarse pass before the full passes
     /// Edge of the coarse pass's blocks: 8 x 8 samples 1/64 of the pixels, so the first view of a
     /// camera move keeps up even while software GL shares the two cores (docs/PERFORMANCE.md).
     int preview_block = 8;

@@ -251,7 +251,7 @@ void RenderSession::run() {
             if (cancel_requested_) return;
             // An accumulating preview shows direct light at once: a coarse pass before photons
             // that are not cached yet are shot.
-            direct_first_ = progressive_ && job_.options.accumulates() && !(loop_ && loop_->resumable()) && caustic_key_ != 0 &&
+            direct_first_ = coarse_preview_ && job_.options.accumulates() && !(loop_ && loop_->resumable()) && caustic_key_ != 0 &&
                             !(caustics_ && caustics_->key == caustic_key_);
             if (direct_first_) render_direct_preview(arena);
             if (cancel_requested_) return;
@@ -334,7 +334,7 @@ public:
     Cluster* cluster() const override { return session_.distributed() ? session_.cluster_ : nullptr; }
     double elapsed_seconds() const override { return now_seconds() - session_.start_time_; }
     int coarse_preview_block() const override {
-        return session_.progressive_ && !session_.direct_first_ ? session_.preview_block_ : 0;
+        return session_.coarse_preview_ && !session_.direct_first_ ? session_.preview_block_ : 0;
     }
     bool direct_preview_shown() const override { return session_.direct_first_; }
     Image& image() override { return session_.image_; }
@@ -423,11 +423,11 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         const bool antialias = has_antialiasing_pass(context);
         {
             std::lock_guard lock(mutex_);
-            progress_.passes = (antialias ? 2 : 1) + (progressive_ ? 1 : 0);
+            progress_.passes = (antialias ? 2 : 1) + (coarse_preview_ ? 1 : 0);
             progress_.tiles_total = tiles.size() * progress_.passes;
         }
         int pass = 0;
-        if (progressive_)
+        if (coarse_preview_)
             runner.run("preview", pass++, [&](std::size_t, const Tile& tile, RayCounters& c) {
                 render_coarse_tile(context, tile, preview_block_, image_, c);
             });

@@ -145,8 +145,8 @@ public:
 
     /// Renders a coarse preview pass (one sample per `block` x `block` square; block divides
     /// tile_size) before the full passes.
-    void set_progressive(bool on, int block = preview_block) {
-        progressive_ = on;
+    void set_coarse_preview(bool on, int block = preview_block) {
+        coarse_preview_ = on;
         preview_block_ = block > 0 && tile_size % block == 0 ? block : preview_block;
     }
 
@@ -219,7 +219,7 @@ private:
     std::unique_ptr<std::mutex[]> tile_mutexes_;
     std::unique_ptr<std::atomic<std::uint64_t>[]> tile_versions_;
     std::atomic<std::uint64_t> version_counter_{0};
-    bool progressive_ = false;
+    bool coarse_preview_ = false;
     int preview_block_ = preview_block;
     std::thread worker_;
     std::atomic<bool> cancel_requested_{false};

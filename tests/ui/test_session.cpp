@@ -139,7 +139,7 @@ TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
     // poller descheduled that long under a loaded ctest never sees the stage. Blocks of one pixel
     // make it about 50 ms; each tile still takes well under a millisecond, so the stop bound is
     // as demanding as before.
-    session.set_progressive(true, stage == "preview" ? 1 : preview_block);
+    session.set_coarse_preview(true, stage == "preview" ? 1 : preview_block);
     // A stage of a few tens of milliseconds can pass unseen by a poller that a loaded machine
     // deschedules that long: the render is started again (a whole new render, the same job)
     // until the poller sees it, a few times at most.
