@@ -72,7 +72,7 @@ glm::vec3 ClassicIntegrator::photon_estimate(const PhotonMap& map, const glm::ve
     thread_local std::vector<Neighbour> scratch;
     if (scratch.size() < static_cast<std::size_t>(k)) scratch.resize(static_cast<std::size_t>(k));
     const GatherTimer timer(counters);
-    return saturate(map.classic_estimate(point, k, setup_.caustic_max_distance, scratch.data()).value);
+    return saturate(map.classic_estimate(point, k, params_.caustic_prune_distance, scratch.data()).value);
 }
 
 glm::vec3 ClassicIntegrator::photon_dot(const PhotonMap* map, const glm::vec3& point) const {
@@ -99,10 +99,10 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
     // The debug views replace the surface's own colour (the recursion still runs).
     if (setup_.draw_caustics_only)
         return receives && setup_.caustic_map ? photon_estimate(*setup_.caustic_map, hit.position,
-                                                                setup_.caustic_neighbours, counters)
+                                                                params_.caustic_neighbours, counters)
                                               : glm::vec3(0.0f);
     if (setup_.draw_gi_only)
-        return receives && setup_.gi_map ? photon_estimate(*setup_.gi_map, hit.position, setup_.gi_neighbours, counters)
+        return receives && setup_.gi_map ? photon_estimate(*setup_.gi_map, hit.position, params_.gi_neighbours, counters)
                                          : glm::vec3(0.0f);
     if (setup_.draw_caustic_map) return luma(kd) < caustic_luma_gate ? glm::vec3(0.0f) : photon_dot(setup_.caustic_map, hit.position);
     if (setup_.draw_gi_map) return luma(kd) < caustic_luma_gate ? glm::vec3(0.0f) : photon_dot(setup_.gi_map, hit.position);
@@ -111,7 +111,7 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
     const float n_dot_v = glm::dot(n, to_eye);
     // Ambient, or the GI estimate replaces it ("GI term").
     glm::vec3 colour = setup_.gi_map ? saturate_signed(kd * photon_estimate(*setup_.gi_map, hit.position,
-                                                                             setup_.gi_neighbours, counters) * n_dot_v)
+                                                                             params_.gi_neighbours, counters) * n_dot_v)
                                      : setup_.ambient * kd;
     for (std::size_t l = 0; l < setup_.lights.size(); ++l) {
         const Light& light = setup_.lights[l];
@@ -125,7 +125,7 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
     }
     // "estimate": the caustic term, E (n.v); kd is already in the photons.
     if (setup_.caustic_map && setup_.caustic_map->size() > min_caustic_photons && receives)
-        colour = saturate_signed(colour + photon_estimate(*setup_.caustic_map, hit.position, setup_.caustic_neighbours,
+        colour = saturate_signed(colour + photon_estimate(*setup_.caustic_map, hit.position, params_.caustic_neighbours,
                                                           counters) * n_dot_v);
     // --show-projection-map: tint the surface green where a light's projection map is occupied.
     for (const auto& [map, light] : setup_.projection_maps) {

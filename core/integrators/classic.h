@@ -19,6 +19,21 @@
 
 namespace caustica {
 
+/// The classic integrator's own parameters.
+struct ClassicParams {
+    int caustic_neighbours = 5;             ///< N of the caustic estimate (--caustic-num-neighbours)
+    float caustic_prune_distance = 0.15f;   ///< "search": the distance that prunes once N are held
+    int gi_neighbours = 100;                ///< N of the GI estimate (--gi-num-neighbours)
+
+    static ClassicParams from(const Options& options) {
+        ClassicParams p;
+        p.caustic_neighbours = options.caustic_num_neighbours;
+        p.caustic_prune_distance = static_cast<float>(options.effective_caustic_max_dist());
+        p.gi_neighbours = options.gi_num_neighbours;
+        return p;
+    }
+};
+
 class ClassicIntegrator final : public Integrator {
 public:
     /// "deep rays": a ray deeper than this that hits something returns white.
@@ -32,7 +47,8 @@ public:
     /// "debug views": the photon dot views show the nearest photon within this many world units.
     static constexpr float dot_radius = 0.01f;
 
-    explicit ClassicIntegrator(const ShadingSetup& setup) : setup_(setup) {}
+    explicit ClassicIntegrator(const ShadingSetup& setup, const ClassicParams& params = {})
+        : setup_(setup), params_(params) {}
 
     const char* name() const override { return "classic"; }
     PixelSampling pixel_sampling() const override { return PixelSampling::corner_grid; }
@@ -67,6 +83,7 @@ private:
     glm::vec3 photon_dot(const PhotonMap* map, const glm::vec3& point) const;
 
     const ShadingSetup& setup_;
+    ClassicParams params_;
 };
 
 }  // namespace caustica

@@ -7,7 +7,6 @@
 #pragma once
 
 #include "core/geometry/render_scene.h"
-#include "core/photons/photon_grid.h"
 #include "core/photons/photon_map.h"
 #include "core/photons/projection_map.h"
 #include "core/render/random.h"
@@ -22,7 +21,10 @@
 
 namespace caustica {
 
-/// Scene-wide shading inputs for one render job, shared by both integrators.
+/// Scene-wide shading inputs for one render job, as every integrator shades them. What only one
+/// integrator uses (its depth limits, its gathers' N and distance, its pass's grid and radius) is
+/// that integrator's own parameter struct (ClassicParams, ProgressiveParams), made from the job's
+/// options by its registry entry.
 struct ShadingSetup {
     const RenderScene* scene = nullptr;
     const TextureSet* textures = nullptr;  ///< may be null: no textures
@@ -31,31 +33,18 @@ struct ShadingSetup {
     glm::vec3 miss_colour{1.0f};  ///< white unless gr.set_miss_colour (docs/SCENE_LANGUAGE.md)
     bool sky = false;             ///< --rays: the orange sunburst behind everything
     glm::vec3 view_right{1.0f, 0.0f, 0.0f}, view_up{0.0f, 1.0f, 0.0f};  ///< camera frame for the sunburst
-    int max_depth = 8;            ///< progressive: recursion limit
-    float min_weight = 1e-3f;     ///< progressive: path weight cut
     int shadow_grid = 4;          ///< N x N shadow samples on a spherical light
     bool soft_shadows = true;
     float unit_distance = 1.0f;
-    // Photon maps (null = none) and how they are gathered.
+    // Photon maps (null = none).
     const PhotonMap* caustic_map = nullptr;
-    int caustic_neighbours = 5;
-    float caustic_max_distance = 0.15f;
-    PhotonFilter caustic_filter = PhotonFilter::none;  ///< progressive only
-    /// Progressive passes: the pass's photons in a hashed grid (null: the k-nearest estimate on
-    /// caustic_map). A gather at path length l from the camera (reflections and refractions
-    /// unfolded) takes the photons within min(caustic_max_distance, footprint_radius l
-    /// radius_scale): a radius fixed in pixel footprints, shrunk pass by pass.
-    const PhotonGrid* caustic_grid = nullptr;
-    float footprint_radius = 0.0f;
-    float radius_scale = 1.0f;
-    const PhotonMap* gi_map = nullptr;                 ///< classic --gi
-    int gi_neighbours = 100;
+    const PhotonMap* gi_map = nullptr;  ///< an integrator's own GI map (classic --gi)
     // Debug views (docs/CAUSTICS.md, "debug views").
     bool draw_caustics_only = false;
     bool draw_caustic_map = false;
     bool draw_gi_only = false;
     bool draw_gi_map = false;
-    float dot_radius_per_distance = 0.0f;  ///< progressive dots: a dot's radius per unit of ray distance
+    float dot_radius_per_distance = 0.0f;  ///< a pixel footprint's radius per unit of ray distance
     /// --show-projection-map: per light, the projection map (null when not built) and its position.
     std::vector<std::pair<const ProjectionMap*, glm::vec3>> projection_maps;
 };

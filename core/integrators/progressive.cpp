@@ -142,17 +142,17 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
                            ? glm::vec3(0.0f)
                            : setup_.ambient * kd + direct_light(m, kd, m.ks, hit, n, to_eye, path.known_visibility,
                                                                 random, counters);
-    if ((setup_.caustic_map || setup_.caustic_grid) && kd != glm::vec3(0.0f))
+    if ((setup_.caustic_map || params_.caustic_grid) && kd != glm::vec3(0.0f))
         colour += caustic_radiance(hit, n, kd, path, path.distance + hit.t, counters);
     if (setup_.draw_caustic_map || !setup_.projection_maps.empty())
         colour = debug_overlays(hit, glm::length(hit.position - ray.origin), colour);
-    if (m.reflective && path.depth < setup_.max_depth) {
+    if (m.reflective && path.depth < params_.max_depth) {
         PathState next = path;
         next.depth += 1;
         next.distance = path.distance + hit.t;
         next.known_visibility = nullptr;
         next.weight = path.weight * glm::min(m.ks, glm::vec3(1.0f));
-        if (max_component(next.weight) >= setup_.min_weight) {
+        if (max_component(next.weight) >= params_.min_weight) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), setup_.scene->epsilon(), ray_infinity};
             colour += m.ks * trace(reflected, next, random, counters);
@@ -169,13 +169,13 @@ glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const g
     // progressive pass the radius.
     auto mean = [](const glm::vec3& c) { return (static_cast<double>(c.x) + c.y + c.z) / 3.0; };
     glm::vec3 irradiance(0.0f), inner(0.0f);
-    if (setup_.caustic_grid) {  // a progressive pass: a radius fixed in pixel footprints, shrunk
-        const float radius = std::min(setup_.caustic_max_distance, setup_.footprint_radius * distance * setup_.radius_scale * path.radius_scale);
+    if (params_.caustic_grid) {  // a progressive pass: a radius fixed in pixel footprints, shrunk
+        const float radius = std::min(params_.caustic_max_distance, params_.footprint_radius * distance * params_.radius_scale * path.radius_scale);
         if (radius > 0.0f) {
             const GatherTimer timer(counters);
             counters.radius_log_sum += std::log(static_cast<double>(radius));
             ++counters.radius_samples;
-            const PhotonGrid::Gather g = setup_.caustic_grid->gather(hit.position, n, radius);
+            const PhotonGrid::Gather g = params_.caustic_grid->gather(hit.position, n, radius);
             const float area = 3.14159265358979f * radius * radius;
             irradiance = g.sum / area;
             inner = g.inner / (0.5f * area);
@@ -183,11 +183,11 @@ glm::vec3 ProgressiveIntegrator::caustic_radiance(const SurfaceHit& hit, const g
     } else {
         const GatherTimer timer(counters);
         thread_local std::vector<Neighbour> scratch;
-        if (scratch.size() < static_cast<std::size_t>(setup_.caustic_neighbours))
-            scratch.resize(static_cast<std::size_t>(setup_.caustic_neighbours));
+        if (scratch.size() < static_cast<std::size_t>(params_.caustic_neighbours))
+            scratch.resize(static_cast<std::size_t>(params_.caustic_neighbours));
         PhotonMap::Probe probe;
-        irradiance = setup_.caustic_map->estimate(hit.position, n, setup_.caustic_neighbours,
-                                                  setup_.caustic_max_distance, setup_.caustic_filter,
+        irradiance = setup_.caustic_map->estimate(hit.position, n, params_.caustic_neighbours,
+                                                  params_.caustic_max_distance, params_.caustic_filter,
                                                   scratch.data(), probe);
         inner = probe.inner;
     }
@@ -231,7 +231,7 @@ glm::vec3 ProgressiveIntegrator::dielectric(const Ray& ray, const SurfaceHit& hi
     if (!m.air && !setup_.draw_caustics_only)
         colour = setup_.ambient * kd + direct_light(m, kd, reflectance * m.ks, hit, n, -ray.direction,
                                                     path.known_visibility, random, counters);
-    if (path.depth >= setup_.max_depth) return colour;
+    if (path.depth >= params_.max_depth) return colour;
     // The medium colour (docs/SCENE_LANGUAGE.md): the reflected ray carries R ks; the transmitted
     // one (1 - R) and the medium's ks^(d/d_u), applied along the segment by trace(); no
     // per-crossing ks factor.
@@ -243,7 +243,7 @@ glm::vec3 ProgressiveIntegrator::dielectric(const Ray& ray, const SurfaceHit& hi
     next.known_visibility = nullptr;
     if (reflectance > 0.0f) {
         next.weight = path.weight * glm::min(specular, glm::vec3(1.0f)) * reflectance;
-        if (max_component(next.weight) >= setup_.min_weight) {
+        if (max_component(next.weight) >= params_.min_weight) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
             colour += specular * reflectance * trace(reflected, next, random, counters);
@@ -253,7 +253,7 @@ glm::vec3 ProgressiveIntegrator::dielectric(const Ray& ray, const SurfaceHit& hi
     if (reflectance < 1.0f && refract_direction(ray.direction, n, n1, n2, direction)) {
         next.weight = path.weight * (1.0f - reflectance);
         next.media = media.after;
-        if (max_component(next.weight) >= setup_.min_weight) {
+        if (max_component(next.weight) >= params_.min_weight) {
             ++counters.refracted;
             const Ray refracted{hit.position, direction, eps, ray_infinity};
             colour += (1.0f - reflectance) * trace(refracted, next, random, counters);

@@ -7,15 +7,44 @@
 
 #include "core/integrators/integrator.h"
 #include "core/integrators/shading_common.h"
+#include "core/photons/photon_grid.h"
 #include "core/shading/medium_stack.h"
 
 namespace caustica {
+
+/// The progressive integrator's own parameters: its path limits, its single pass's k-nearest
+/// estimate, and what a pass of the accumulation gathers with (ProgressiveRender sets those).
+struct ProgressiveParams {
+    int max_depth = 8;            ///< recursion limit (--max-depth)
+    float min_weight = 1e-3f;     ///< path weight cut (--min-weight)
+    int caustic_neighbours = 5;   ///< N of the single pass's estimate
+    float caustic_max_distance = 0.15f;
+    PhotonFilter caustic_filter = PhotonFilter::none;
+    /// A pass of the accumulation: its photons in a hashed grid (null: the k-nearest estimate on
+    /// the setup's caustic map). A gather at path length l from the camera (reflections and
+    /// refractions unfolded) takes the photons within min(caustic_max_distance, footprint_radius l
+    /// radius_scale): a radius fixed in pixel footprints, shrunk pass by pass.
+    const PhotonGrid* caustic_grid = nullptr;
+    float footprint_radius = 0.0f;
+    float radius_scale = 1.0f;
+
+    static ProgressiveParams from(const Options& options) {
+        ProgressiveParams p;
+        p.max_depth = options.max_depth;
+        p.min_weight = static_cast<float>(options.min_weight);
+        p.caustic_neighbours = options.caustic_num_neighbours;
+        p.caustic_max_distance = static_cast<float>(options.effective_caustic_max_dist());
+        p.caustic_filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
+        return p;
+    }
+};
 
 class ProgressiveIntegrator final : public Integrator {
 public:
     /// With --draw-caustics-only the image holds the caustic radiance alone: rays that leave the
     /// scene are black, whatever the miss colour (the image docs/ACCURACY.md measures errors on).
-    explicit ProgressiveIntegrator(const ShadingSetup& setup) : setup_(setup) {
+    explicit ProgressiveIntegrator(const ShadingSetup& setup, const ProgressiveParams& params = {})
+        : setup_(setup), params_(params) {
         if (setup_.draw_caustics_only) {
             setup_.miss_colour = glm::vec3(0.0f);
             setup_.sky = false;
@@ -73,6 +102,7 @@ private:
     glm::vec3 debug_overlays(const SurfaceHit& hit, float distance, glm::vec3 colour) const;
 
     ShadingSetup setup_;
+    ProgressiveParams params_;
 };
 
 }  // namespace caustica

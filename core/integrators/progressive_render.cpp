@@ -56,10 +56,11 @@ double typical_first_radius(const RenderScene& scene, const Camera& camera, cons
                                             (j + 0.5f) * static_cast<float>(job.height) / samples);
             if (scene.intersect(ray, hit)) distances.push_back(hit.t);
         }
-    if (distances.empty()) return setup.caustic_max_distance;
+    const double max_distance = static_cast<float>(job.options.effective_caustic_max_dist());
+    if (distances.empty()) return max_distance;
     std::nth_element(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2), distances.end());
     const double median = distances[distances.size() / 2];
-    return std::min(static_cast<double>(setup.caustic_max_distance),
+    return std::min(max_distance,
                     job.options.accumulation_radius * setup.dot_radius_per_distance * median);
 }
 
@@ -232,20 +233,24 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         });
     }
     // What pass p gathers with: its photons in a grid, the first radius scaled by (r_p / r_1).
+    struct PassShading {
+        ShadingSetup setup;
+        ProgressiveParams params;
+    };
     auto pass_setup_for = [&](int p) {
         while (acc.scale_pass < p) {  // the same sequence of roundings whichever rank walks it
             acc.scale2 = next_radius2(acc.scale2, acc.scale_pass + 1, alpha);
             ++acc.scale_pass;
         }
-        ShadingSetup pass_setup = setup;
-        pass_setup.caustic_map = nullptr;
-        pass_setup.caustic_grid = has_photons ? &grid_ : nullptr;
-        pass_setup.footprint_radius = static_cast<float>(options.accumulation_radius) * setup.dot_radius_per_distance;
+        PassShading pass{setup, ProgressiveParams::from(options)};
+        pass.setup.caustic_map = nullptr;
+        pass.params.caustic_grid = has_photons ? &grid_ : nullptr;
+        pass.params.footprint_radius = static_cast<float>(options.accumulation_radius) * setup.dot_radius_per_distance;
         // One random point of each area light per pass: soft shadows converge over the passes
         // like everything else, with no grid pattern and n^2 fewer shadow rays a pass.
-        pass_setup.shadow_grid = 1;
-        pass_setup.radius_scale = static_cast<float>(std::sqrt(acc.scale2));
-        return pass_setup;
+        pass.setup.shadow_grid = 1;
+        pass.params.radius_scale = static_cast<float>(std::sqrt(acc.scale2));
+        return pass;
     };
     // The grid's cells are made for the radius most gathers use (a function of the scene and the
     // pass alone: every rank sorts a pass's photons into the same cells, so sums are the same bits).
@@ -309,7 +314,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 }
                 photons = &fresh->photons;
             }
-            const ShadingSetup pass_setup = pass_setup_for(p);
+            const PassShading pass_shading = pass_setup_for(p);
             if (photons) {
                 const auto t_grid = std::chrono::steady_clock::now();
                 grid_.build(*photons, static_cast<float>(grid_cell_factor * acc.typical_radius * std::sqrt(acc.scale2)));
@@ -317,7 +322,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 round_photons = photon_directions(fresh ? *fresh : *first_stage);
             }
             const float* const factors = acc.radius_factors.empty() ? nullptr : acc.radius_factors.data();
-            const ProgressiveIntegrator pass_integrator(pass_setup);
+            const ProgressiveIntegrator pass_integrator(pass_shading.setup, pass_shading.params);
             TileContext pass_context = context;
             pass_context.integrator = &pass_integrator;
             pass_context.seed = acc.seed;

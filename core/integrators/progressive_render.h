@@ -6,6 +6,7 @@
 
 #include "core/integrators/integrator.h"
 #include "core/integrators/progressive_accumulator.h"
+#include "core/photons/photon_grid.h"
 #include "core/render/render_host.h"
 #include "core/render/tile_renderer.h"
 

@@ -10,9 +10,9 @@
 namespace caustica {
 namespace {
 
-template <typename T>
-std::unique_ptr<Integrator> make(const ShadingSetup& setup) {
-    return std::make_unique<T>(setup);
+template <typename T, typename Params>
+std::unique_ptr<Integrator> make(const ShadingSetup& setup, const Options& options) {
+    return std::make_unique<T>(setup, Params::from(options));
 }
 
 // ---- classic: the original renderer's rules (docs/CAUSTICS.md, "The two integrators") ----------
@@ -57,9 +57,9 @@ glm::vec3 progressive_readout(const PhotonMap& map, const glm::vec3& p, const gl
 
 const std::vector<IntegratorEntry>& integrator_entries() {
     static const std::vector<IntegratorEntry> entries = {
-        {IntegratorKind::classic, "classic", false, true, make<ClassicIntegrator>, classic_photons_wanted,
+        {IntegratorKind::classic, "classic", false, true, make<ClassicIntegrator, ClassicParams>, classic_photons_wanted,
          build_classic_photons, nullptr, nullptr, classic_readout},
-        {IntegratorKind::progressive, "progressive", true, false, make<ProgressiveIntegrator>,
+        {IntegratorKind::progressive, "progressive", true, false, make<ProgressiveIntegrator, ProgressiveParams>,
          progressive_photons_wanted, build_progressive_photons, progressive_directions, progressive_loop,
          progressive_readout},
     };
@@ -78,8 +78,8 @@ const IntegratorEntry* find_integrator(std::string_view name) {
     return nullptr;
 }
 
-std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const ShadingSetup& setup) {
-    return integrator_entry(kind).make(setup);
+std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const ShadingSetup& setup, const Options& options) {
+    return integrator_entry(kind).make(setup, options);
 }
 
 bool caustics_needed(const RenderJob& job) { return integrator_entry(job.options.integrator).photons_wanted(job); }

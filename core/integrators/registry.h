@@ -36,8 +36,9 @@ struct IntegratorEntry {
     /// Whether --gi builds a GI photon map of its own, gathered with --gi-num-neighbours (else GI
     /// paths go into its one photon map, as the progressive integrator does).
     bool gi_map;
-    /// The integrator over a job's shading setup (which must outlive it).
-    std::unique_ptr<Integrator> (*make)(const ShadingSetup& setup);
+    /// The integrator over a job's shading setup (which must outlive it), with its own parameters
+    /// read from the job's options.
+    std::unique_ptr<Integrator> (*make)(const ShadingSetup& setup, const Options& options);
     /// Whether a job needs its photon stage at all.
     bool (*photons_wanted)(const RenderJob& job);
     /// Builds the photon stage of a job (the first pass's, for a loop that shoots more).
@@ -60,8 +61,8 @@ const IntegratorEntry& integrator_entry(IntegratorKind kind);
 /// The entry named `name`, or null.
 const IntegratorEntry* find_integrator(std::string_view name);
 
-/// The integrator `kind` over `setup` (which must outlive it).
-std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const ShadingSetup& setup);
+/// The integrator `kind` over `setup` (which must outlive it), its parameters from `options`.
+std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const ShadingSetup& setup, const Options& options);
 
 /// Whether a job needs the photon stage of its integrator.
 bool caustics_needed(const RenderJob& job);

@@ -296,17 +296,11 @@ ShadingSetup RenderSession::make_setup() const {
     const glm::dvec3 right = glm::cross(view, up);
     if (glm::length(right) > 0.0) setup.view_right = glm::vec3(glm::normalize(right));
     setup.view_up = glm::vec3(up);
-    setup.max_depth = options.max_depth;
-    setup.min_weight = static_cast<float>(options.min_weight);
     setup.shadow_grid = options.shadow_grid;
     setup.soft_shadows = !options.no_soft_shadows;
     // The smallest unit distances are below float's normal range: keep the divisor positive.
     setup.unit_distance = std::max(static_cast<float>(options.unit_distance), std::numeric_limits<float>::min());
     setup.textures = textures_.get();
-    setup.caustic_neighbours = options.caustic_num_neighbours;
-    setup.caustic_max_distance = static_cast<float>(options.effective_caustic_max_dist());
-    setup.caustic_filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
-    setup.gi_neighbours = options.gi_num_neighbours;
     setup.draw_caustics_only = options.draw_caustics_only;
     setup.draw_caustic_map = options.draw_caustic_map;
     setup.draw_gi_only = options.draw_gi_only;
@@ -383,7 +377,7 @@ TileContext make_context(const Options& options, const Camera& camera, const Int
 void RenderSession::render_direct_preview(tbb::task_arena& arena) {
     const Camera camera(job_.camera, job_.width, job_.height);
     const ShadingSetup setup = make_setup();  // no photon map yet: direct light only
-    const std::unique_ptr<Integrator> integrator = make_integrator(job_.options.integrator, setup);
+    const std::unique_ptr<Integrator> integrator = make_integrator(job_.options.integrator, setup, job_.options);
     const TileContext context = make_context(job_.options, camera, *integrator);
     {
         std::lock_guard lock(mutex_);
@@ -407,7 +401,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         for (std::size_t l = 0; l < caustics_->projection_maps.size(); ++l)
             if (!caustics_->projection_maps[l].empty())
                 setup.projection_maps.emplace_back(&caustics_->projection_maps[l], caustics_->light_positions[l]);
-    const std::unique_ptr<Integrator> integrator = make_integrator(options.integrator, setup);
+    const std::unique_ptr<Integrator> integrator = make_integrator(options.integrator, setup, options);
     TileContext context = make_context(options, camera, *integrator);
     PassRunner runner{*this, arena, {}};
 

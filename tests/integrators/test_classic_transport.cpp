@@ -35,6 +35,7 @@ struct FloorView {
     JobBuilder builder{1, 1};
     std::unique_ptr<RenderScene> scene;
     ShadingSetup setup;
+    ClassicParams params;  // N 5, pruned at 0.15: the defaults
     const Ray ray{glm::vec3(0, 1, 1), glm::normalize(glm::vec3(0, -1, -1)), 0.0f, ray_infinity};
 
     explicit FloorView(double kd) {
@@ -44,12 +45,10 @@ struct FloorView {
         const RenderJob job = builder.build();
         scene = std::make_unique<RenderScene>(*job.scene, flatten_scene(*job.scene, job.root, false));
         setup.scene = scene.get();
-        setup.caustic_neighbours = 5;
-        setup.caustic_max_distance = 0.15f;
     }
 
     glm::vec3 colour() const {
-        const ClassicIntegrator integrator(setup);
+        const ClassicIntegrator integrator(setup, params);
         RandomStream random(1, 1);
         RayCounters counters;
         return integrator.trace_camera_ray(ray, random, counters);
@@ -111,7 +110,7 @@ TEST(ClassicEstimate, GiReplacesTheAmbient) {
     EXPECT_NEAR(view.colour().x, 0.15f, 1e-6f) << "without GI: A kd";
     const PhotonMap gi = photons_around_origin(20, power);
     view.setup.gi_map = &gi;
-    view.setup.gi_neighbours = 5;
+    view.params.gi_neighbours = 5;
     const float e = 5.0f * 0.001f / (pi * 0.05f * 0.05f);
     EXPECT_NEAR(view.colour().x, 0.5f * e * n_dot_v, 1e-5f);
 }
@@ -133,7 +132,7 @@ TEST(ClassicDebugViews, EstimateOnlyViews) {
     EXPECT_EQ(dull.colour(), glm::vec3(0.0f));
     FloorView gi(0.5);
     gi.setup.gi_map = &many;
-    gi.setup.gi_neighbours = 5;
+    gi.params.gi_neighbours = 5;
     gi.setup.draw_gi_only = true;
     EXPECT_NEAR(gi.colour().y, 5.0f * 0.002f / (pi * 0.05f * 0.05f), 1e-4f);
 }

@@ -21,8 +21,9 @@ TEST(IntegratorRegistry, EveryEntryIsNamedOnceAndParsedByItsName) {
         EXPECT_EQ(o.integrator, entry.kind) << entry.name;
         EXPECT_EQ(&integrator_entry(entry.kind), &entry);
         EXPECT_EQ(find_integrator(entry.name), &entry);
-        if (entry.kind != Options{}.integrator)  // the options line of the metadata names it
+        if (entry.kind != Options{}.integrator) {  // the options line of the metadata names it
             EXPECT_EQ(describe_non_default(o), std::string("--integrator ") + entry.name);
+        }
     }
     EXPECT_EQ(find_integrator("pathtracer"), nullptr);
     EXPECT_EQ(integrator_entries().front().kind, Options{}.integrator) << "the default first";
@@ -35,7 +36,7 @@ TEST(IntegratorRegistry, EachEntryMakesWhatItDeclares) {
         RenderJob job = base;
         job.options.integrator = entry.kind;
         ShadingSetup setup;
-        EXPECT_STREQ(entry.make(setup)->name(), entry.name);
+        EXPECT_STREQ(entry.make(setup, job.options)->name(), entry.name);
         // An integrator that accumulates has a loop of its own; one that does not, the tile passes.
         EXPECT_EQ(entry.make_loop != nullptr, entry.accumulates);
         job.options.passes = 4;
