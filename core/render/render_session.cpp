@@ -184,7 +184,7 @@ void RenderSession::prepare_caustics() {
     PhotonStageInputs inputs;
     inputs.cancel = &cancel_requested_;
     inputs.textures = textures_.get();
-    inputs.cluster = cluster_ && cluster_->size() > 1 ? cluster_ : nullptr;
+    inputs.cluster = cluster_;  // the builder decides whether it has other ranks
     inputs.progress = &photon_progress_;
     integrator.build_photons(*fresh, *scene_, job_, inputs);
     fresh->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
