@@ -69,6 +69,7 @@ struct LoaderContext {
     std::size_t memory_used = 0;
     std::size_t memory_limit = 0;           ///< 0 = no limit
     bool memory_exceeded = false;           ///< an allocation was refused for the limit
+    SourceLocation memory_exceeded_at;      ///< where it first was (the stop message names it)
     double timeout_seconds = 0.0;
     std::chrono::steady_clock::time_point deadline;
     const std::atomic<bool>* cancel = nullptr;
@@ -95,8 +96,13 @@ extern volatile std::sig_atomic_t stop_requested;
 /// Records the line the script is on (the first Lua function on the stack) in
 /// ctx.last_hook_location and the shared progress page. Never throws.
 void note_location(lua_State* L, LoaderContext& ctx) noexcept;
-/// True when the script must stop (time limit, cancel flag, watchdog): ctx.stop_message says why.
+/// True when the script must stop (time limit, cancel flag, watchdog, memory budget):
+/// ctx.stop_message says why.
 bool limits_reached(LoaderContext& ctx) noexcept;
+/// Records that the memory budget is used up, where the script is, and makes the limit-checking
+/// hook run at every instruction: the script then stops at once, whatever pcall it wraps around
+/// the allocation. Never throws.
+void note_memory_exceeded(LoaderContext& ctx) noexcept;
 
 /// The loader context stored in the state's extra space.
 LoaderContext& context(lua_State* L);

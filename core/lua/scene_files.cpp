@@ -166,7 +166,7 @@ std::string read_main_script(const std::string& path, std::size_t max_bytes) {
 
 void charge_memory(LoaderContext& ctx, std::size_t bytes, const char* what) {
     if (ctx.memory_limit != 0 && (bytes > ctx.memory_limit || ctx.memory_used > ctx.memory_limit - bytes)) {
-        ctx.memory_exceeded = true;
+        note_memory_exceeded(ctx);
         throw InputError(std::string("the scene's memory budget of ") + std::to_string(ctx.memory_limit >> 20) +
                          " MiB is used up: " + what + " would take " + std::to_string((bytes + (1 << 20) - 1) >> 20) +
                          " MiB more, the Lua heap and scene data hold " + std::to_string(ctx.memory_used >> 20) +

@@ -66,8 +66,7 @@ void* counting_alloc(void* ud, void* block, size_t old_size, size_t new_size) no
     if (new_size > old_bytes && stop_requested) return nullptr;
     if (new_size > old_bytes && ctx.memory_limit != 0 &&
         ctx.memory_used - old_bytes + new_size > ctx.memory_limit) {
-        ctx.memory_exceeded = true;
-        note_refusal_location(ctx);
+        note_memory_exceeded(ctx);
         return nullptr;
     }
     void* resized = std::realloc(block, new_size);
@@ -185,14 +184,19 @@ std::string error_text(lua_State* L) {
     }
 }
 
+std::string memory_limit_message(const LoaderContext& ctx) {
+    const std::string where = ctx.memory_exceeded_at.file.empty() ? stop_location(ctx) : ctx.memory_exceeded_at.str();
+    return where + ": script exceeded the memory limit of " +
+           format_number(static_cast<double>(ctx.memory_limit) / (1024.0 * 1024.0)) +
+           " MiB (Lua heap and scene data; --script-memory sets it)";
+}
+
 std::string failure_message(lua_State* L, LoaderContext& ctx, int status) {
     if (stop_requested) limits_reached(ctx);
     if (!ctx.stop_message.empty()) return ctx.stop_message;
     if (status == LUA_ERRMEM) {
         if (!ctx.memory_exceeded) return stop_location(ctx) + ": out of memory";
-        return stop_location(ctx) + ": script exceeded the memory limit of " +
-               format_number(static_cast<double>(ctx.memory_limit) / (1024.0 * 1024.0)) +
-               " MiB (Lua heap and scene data; --script-memory sets it)";
+        return memory_limit_message(ctx);
     }
     return error_text(L);
 }
@@ -236,6 +240,18 @@ void note_location(lua_State* L, LoaderContext& ctx) noexcept {
     }
 }
 
+void note_memory_exceeded(LoaderContext& ctx) noexcept {
+    if (!ctx.memory_exceeded) {
+        note_refusal_location(ctx);
+        try {
+            ctx.memory_exceeded_at = ctx.last_hook_location;
+        } catch (...) {
+        }
+    }
+    ctx.memory_exceeded = true;
+    if (ctx.L && !ctx.finished) lua_sethook(ctx.L, count_hook, LUA_MASKCOUNT, 1);
+}
+
 bool limits_reached(LoaderContext& ctx) noexcept {
     try {
         if (!ctx.stop_message.empty()) return true;  // once stopped, a pcall cannot resume the script
@@ -247,6 +263,9 @@ bool limits_reached(LoaderContext& ctx) noexcept {
             ctx.timed_out = true;
             ctx.stop_message = stop_location(ctx) + ": script stopped after " + format_number(ctx.timeout_seconds) +
                                " s (--script-timeout)";
+        } else if (ctx.memory_exceeded) {
+            // The budget is not a Lua error the script may catch: once reached, the script stops.
+            ctx.stop_message = memory_limit_message(ctx);
         } else {
             return false;
         }

@@ -242,6 +242,34 @@ TEST(Sandbox, OneBudgetForEverythingTheScriptMakesTheRendererHold) {
     }
 }
 
+TEST(Sandbox, TheMemoryBudgetCannotBeCaught) {
+    // A pcall around the allocation that goes over the budget must not let the script carry on
+    // (here: into a loop the time limit alone would end), whether the Lua heap or the scene data
+    // (names, warnings) went over it. The error names the line that went over.
+    TempFolder dir;
+    const std::pair<const char*, const char*> cases[] = {
+        {"heap.lua", "local t = {}\nlocal ok = pcall(function() t[1] = string.rep('x', 1e9) end)\n"
+                     "while true do t[2] = ok end\n"},
+        {"names.lua", "local s = string.rep('n', 1e7)\nlocal ok = pcall(function() for i = 1, 100 do gr.node(s) end end)\n"
+                      "while true do s = ok end\n"},
+        {"nested.lua", "local ok = pcall(pcall, function() local s = string.rep('y', 1e9) end)\n"
+                       "local n = 0\nwhile true do n = n + 1 end\n"},
+    };
+    LoadSettings settings;
+    settings.memory_limit_bytes = std::size_t(256) << 20;
+    settings.timeout_seconds = 60.0;
+    for (const auto& [name, text] : cases) {
+        const std::string scene = dir.write(name, text);
+        const auto start = Clock::now();
+        const std::string error = load_error(scene, settings);
+        EXPECT_LT(seconds_since(start), caustica::testing::time_bound(10.0)) << name;
+        const std::string line = std::string(name) + (std::string(name) == "nested.lua" ? ":1:" : ":2:");
+        EXPECT_NE(error.find(line), std::string::npos) << error;
+        EXPECT_NE(error.find("256 MiB"), std::string::npos) << error;
+        EXPECT_EQ(error.find("stopped after"), std::string::npos) << error;
+    }
+}
+
 TEST(SceneWire, RoundTripKeepsEverythingAndSharing) {
     TempFolder dir;
     Image image(3, 2);
