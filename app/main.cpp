@@ -1,5 +1,6 @@
 // caustica: the command-line entry point. Subcommands as in yocto's apps: render, view.
 #include "app/compare_command.h"
+#include "app/rank_commands.h"
 #include "app/render_command.h"
 #include "app/view_command.h"
 #include "core/render/cluster.h"
@@ -13,6 +14,7 @@
 #include <exception>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,13 +34,12 @@ const char* usage =
     "\n"
     "'caustica render --help' lists the options.\n";
 
-/// `caustica render`, under mpirun with the other ranks (docs/SCALING.md).
-int render_command(const std::vector<std::string>& args) {
+/// `caustica render`; under mpirun `cluster` holds the ranks (docs/SCALING.md).
+int render_command(const std::vector<std::string>& args, caustica::Cluster* cluster) {
 #ifdef CAUSTICA_HAVE_MPI
-    if (caustica::launched_by_mpirun()) {
-        std::unique_ptr<caustica::Cluster> cluster = caustica::start_mpi_cluster();
+    if (cluster) {
         try {
-            return caustica::run_render_command(args, cluster.get());
+            return caustica::run_render_command(args, cluster);
         } catch (const std::exception& e) {
             // Every failure the ranks can agree on was reported; this one left the other ranks
             // waiting: end them all, with the message.
@@ -47,6 +48,7 @@ int render_command(const std::vector<std::string>& args) {
         }
     }
 #else
+    (void)cluster;
     if (std::getenv("OMPI_COMM_WORLD_SIZE") && std::getenv("OMPI_COMM_WORLD_RANK") &&
         std::string(std::getenv("OMPI_COMM_WORLD_SIZE")) != "1") {
         if (std::string(std::getenv("OMPI_COMM_WORLD_RANK")) != "0") return caustica::exit_ok;  // rank 0 renders alone
@@ -57,31 +59,26 @@ int render_command(const std::vector<std::string>& args) {
     return caustica::run_render_command(args);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    std::vector<std::string> args(argv + 1, argv + argc);
+/// Runs the command `args` names and returns the exit code; under mpirun `cluster` holds the
+/// ranks, every one of them given the same command.
+int run_command(const std::vector<std::string>& args, caustica::Cluster* cluster) {
     try {
-        if (args.empty()) {
+        switch (caustica::command_kind(args)) {
+        case caustica::CommandKind::none:
             std::fprintf(stderr, "%s", usage);
             return caustica::exit_usage;
-        }
-        const std::string command = args[0];
-        if (command == "-h" || command == "--help" || command == "help") {
+        case caustica::CommandKind::help:
             std::printf("%s", usage);
             return caustica::exit_ok;
-        }
-        if (command == "--version") {
+        case caustica::CommandKind::version:
             std::printf("caustica %s\n", CAUSTICA_VERSION);
             return caustica::exit_ok;
-        }
-        const bool render = command == "render";
-        if (render || (command.size() > 4 && command.compare(command.size() - 4, 4, ".lua") == 0)) {
-            const std::vector<std::string> render_args = render ? std::vector<std::string>(args.begin() + 1, args.end()) : args;
-            return render_command(render_args);
-        }
-        if (command == "compare") return caustica::run_compare_command({args.begin() + 1, args.end()});
-        if (command == "view") {
+        case caustica::CommandKind::render:
+            return render_command(args[0] == "render" ? std::vector<std::string>(args.begin() + 1, args.end()) : args,
+                                  cluster);
+        case caustica::CommandKind::compare:
+            return caustica::run_compare_command({args.begin() + 1, args.end()});
+        case caustica::CommandKind::view: {
             // The preview is one window of one process: under mpirun every rank would open one.
             const char* ranks = std::getenv("OMPI_COMM_WORLD_SIZE");
             if (ranks && std::string(ranks) != "1") {
@@ -93,7 +90,10 @@ int main(int argc, char** argv) {
             }
             return caustica::run_view_command({args.begin() + 1, args.end()});
         }
-        std::fprintf(stderr, "caustica: unknown command '%s'\n\n%s", command.c_str(), usage);
+        case caustica::CommandKind::unknown:
+            break;
+        }
+        std::fprintf(stderr, "caustica: unknown command '%s'\n\n%s", args[0].c_str(), usage);
         return caustica::exit_usage;
     } catch (const std::bad_alloc&) {
         // Only reached when no stage could name the cause: still a clear message, exit 2 (README).
@@ -106,4 +106,35 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "caustica: %s\n", e.what());
         return caustica::exit_failure;
     }
+}
+
+#ifdef CAUSTICA_HAVE_MPI
+/// Under mpirun every rank starts MPI and compares its command with the others' before anything
+/// else, whatever the command: a rank that ended without taking part (given --version while the
+/// others render) would leave them waiting for ever (docs/RELIABILITY.md, "Under mpirun, one
+/// rank's failure is every rank's"). MPI ends when the command returns.
+int run_with_ranks(const std::vector<std::string>& args) {
+    std::unique_ptr<caustica::Cluster> cluster;
+    try {
+        cluster = caustica::start_mpi_cluster();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "caustica: %s\n", e.what());
+        return caustica::exit_failure;
+    }
+    if (const std::optional<caustica::RankFailure> failure = caustica::agree_on_command(*cluster, args)) {
+        if (cluster->rank() == 0) std::fprintf(stderr, "caustica: %s\n", failure->message.c_str());
+        return failure->exit_code;
+    }
+    return run_command(args, cluster.get());
+}
+#endif
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::vector<std::string> args(argv + 1, argv + argc);
+#ifdef CAUSTICA_HAVE_MPI
+    if (caustica::launched_by_mpirun()) return run_with_ranks(args);
+#endif
+    return run_command(args, nullptr);
 }

@@ -1,7 +1,8 @@
 // `caustica render` under mpirun (docs/SCALING.md), real processes on this machine: K ranks make one
 // process's image bit for bit (both integrators, --reproducible), share whole frames of an
-// animation, stop together with the failing rank's message, and stop together on Ctrl-C with
-// nothing written. Skipped, saying why, where caustica was built without MPI.
+// animation, stop together with the failing rank's message (a rank given another command than
+// `render` included), and stop together on Ctrl-C with nothing written. Skipped, saying why, where
+// caustica was built without MPI.
 #include "tests/run_command.h"
 #include "tests/time_bounds.h"
 
@@ -76,7 +77,9 @@ public:
         });
         return ended_;
     }
-    bool ended_with_success() const { return ended_ && WIFEXITED(status_) && WEXITSTATUS(status_) == 0; }
+    bool ended_with_success() const { return exit_code() == 0; }
+    /// The exit code once it ended by itself; -1 before, or when a signal ended it.
+    int exit_code() const { return ended_ && WIFEXITED(status_) ? WEXITSTATUS(status_) : -1; }
 
 private:
     fs::path log_;
@@ -187,6 +190,35 @@ TEST_F(Mpi, AnErrorOnOneRankStopsEveryRankWithThatRanksMessage) {
             << r.output;
         EXPECT_FALSE(exists("out.png"));
     }
+}
+
+TEST_F(Mpi, ARankGivenAnotherCommandStopsEveryRankNamingIt) {
+    // mpirun's MPMD form: rank 0 renders, rank 1 is given a command that ends without rendering
+    // (tests/repro/mpi/rank_version_hang.lua: --version; then --help, a misspelt command). Every
+    // rank compares its command first: each run ends within seconds, exit 2, rank 0 naming rank 1
+    // and both commands, nothing written. Without the comparison rank 0 waits for rank 1 for ever.
+    fs::copy_file(CAUSTICA_SOURCE_DIR "/tests/repro/mpi/rank_version_hang.lua", dir_ / "a.lua");
+    const std::string root = ::geteuid() == 0 ? " --allow-run-as-root" : "";
+    const std::string rendering = "'" + binary + "' render a.lua -o x.png";
+    for (const std::string other : {"--version", "--help", "rendre a.lua"}) {
+        Background run("cd '" + dir_.string() + "' && " + environment() + "exec '" + mpirun + "'" + root + " -n 1 " +
+                           rendering + " : -n 1 '" + binary + "' " + other,
+                       dir_ / "log.txt");
+        ASSERT_GT(run.pid(), 0);
+        ASSERT_TRUE(run.wait(caustica::testing::time_bound(10.0), [] {}))
+            << "rank 1 given '" << other << "': still running after 10 s\n" << run.output();
+        const std::string output = run.output();
+        EXPECT_EQ(run.exit_code(), 2) << output;
+        EXPECT_NE(output.find("caustica: rank 1 of 2 was given 'caustica " + other +
+                              "', where rank 0 was given 'caustica render a.lua -o x.png'"),
+                  std::string::npos)
+            << output;
+        EXPECT_FALSE(exists("x.png")) << output;
+    }
+    // The same command on every rank still renders, and rank 0 writes.
+    const CommandResult same = render("a.lua -o x.png", 2);
+    EXPECT_EQ(same.code, 0) << same.output;
+    EXPECT_TRUE(exists("x.png")) << same.output;
 }
 
 TEST_F(Mpi, ACtrlCStopsEveryRankAndWritesNothing) {
