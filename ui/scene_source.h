@@ -14,16 +14,6 @@
 
 namespace caustica::ui {
 
-/// A small text file read whole (see read_small_file).
-struct SmallFile {
-    bool exists = false;  ///< false: no such file (nothing read, nothing wrong)
-    std::string text;     ///< the contents when problem is empty
-    std::string problem;  ///< why it was not read: "is a named pipe (FIFO), ...", "larger than 1 MiB", ...
-};
-/// Reads `path` only if it is a regular file of at most `limit` bytes: a FIFO, device (a link to
-/// /dev/zero), folder or oversized file is refused at once, without waiting or reading it.
-SmallFile read_small_file(const std::string& path, std::size_t limit);
-
 /// The recent scenes list is ten paths; a bigger file is not ours.
 inline constexpr std::size_t recent_file_limit = 1u << 20;
 
@@ -94,43 +84,6 @@ private:
     std::vector<Watched> watched_;
     double checked_at_ = 0.0;
 };
-
-/// Named cameras per scene ("camera bookmarks"), kept between runs in a small text file: one
-/// bookmark a line, "SCENE<TAB>NAME<TAB>ex ey ez vx vy vz ux uy uz fov" (tab, line breaks and
-/// backslash in SCENE and NAME escaped as \t \n \r \\). Each change re-reads the file and changes
-/// only its own bookmark (two previews keep each other's), then replaces the file atomically. A
-/// line that cannot be read is skipped with a warning and written back as it was; a file that is
-/// over 1 MiB or not a regular file is ignored and never written over.
-class CameraBookmarks {
-public:
-    /// Reads `file` ("" = kept in memory only).
-    explicit CameraBookmarks(std::string file);
-    /// The bookmarks of `scene` (absolute path), in the order they were made.
-    std::vector<std::pair<std::string, CameraDesc>> of(const std::string& scene) const;
-    /// Adds or replaces the bookmark `name` of `scene` and writes the file. Tabs and line breaks in
-    /// the name become spaces; an empty name is refused (false).
-    bool set(const std::string& scene, std::string name, const CameraDesc& camera);
-    /// Removes a bookmark and writes the file.
-    void remove(const std::string& scene, const std::string& name);
-    /// What went wrong reading or writing the file ("" = nothing).
-    const std::string& warning() const { return warning_; }
-
-private:
-    struct Entry {
-        std::string scene, name;
-        CameraDesc camera;
-        std::string raw;  ///< an unreadable line, kept verbatim ("" = a bookmark)
-    };
-    /// Reads the file into `entries`; false (warning_ says why) when it is refused.
-    bool read(std::vector<Entry>& entries);
-    /// Sets (camera given) or removes one bookmark, merged into the file as it is now.
-    void change(const std::string& scene, const std::string& name, const CameraDesc* camera);
-    std::string file_, warning_;
-    std::vector<Entry> entries_;
-};
-
-/// Where the bookmarks are kept: "camera-bookmarks" beside the recent list ("" when that is "").
-std::string bookmarks_file_beside(const std::string& recent_file);
 
 /// The default place of the recent list: $XDG_CONFIG_HOME/caustica/recent-scenes, else
 /// ~/.config/caustica/recent-scenes ("" when neither is known).

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "core/scene/orbit_camera.h"
+#include "ui/camera_bookmarks.h"
 #include "ui/caustic_knobs.h"
 #include "ui/overlay_geometry.h"
 #include "ui/preview_driver.h"

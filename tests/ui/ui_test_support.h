@@ -4,12 +4,14 @@
 #include "tests/temp_folder.h"
 #include "ui/view_model.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <string>
 #include <thread>
+#include <vector>
 #include <unistd.h>
 
 namespace caustica::ui::testing {
@@ -28,6 +30,20 @@ inline std::string caustic_box_text(long long photons = 2000000, const std::stri
     if (at != std::string::npos)
         text.replace(at, option.size(), "gr.option('--caustic-num-photons " + std::to_string(photons) + "')\n" + extra);
     return text;
+}
+
+/// The names of the files in `folder`, sorted.
+inline std::vector<std::string> files_in(const fs::path& folder) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(folder)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+/// The bytes of the file at `path` ("" if it cannot be read).
+inline std::string file_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 /// Calls model.update() (about every millisecond) until `done` or `seconds` pass; returns `done()`.
