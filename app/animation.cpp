@@ -127,11 +127,12 @@ AnimationPlan plan_animation(const AnimationRequest& request, const std::vector<
                                     " times; only the first (" + jobs[0].where.str() + ") is orbited");
         const std::string base = output.empty() ? jobs[0].output : output;
         for (int i = first; i <= last; ++i)
-            plan.frames.push_back({jobs[0], numbered_frame_path(base, i, count), i, count, 0});
+            plan.frames.push_back({jobs[0], numbered_frame_path(base, i, count), i, count, 0, output.empty()});
         plan.needs_target = true;
     } else {
         for (int i = first; i <= last; ++i)
-            plan.frames.push_back({jobs[i - 1], script_frame_path(output, jobs[i - 1], i - 1, jobs.size()), i, count, i - 1});
+            plan.frames.push_back(
+                {jobs[i - 1], script_frame_path(output, jobs[i - 1], i - 1, jobs.size()), i, count, i - 1, output.empty()});
     }
     return plan;
 }

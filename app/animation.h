@@ -39,6 +39,9 @@ struct AnimationFrame {
     int number = 0;    ///< the frame's number, from 1: its gr.render's, or its place in the orbit
     int count = 0;     ///< the frames of the whole animation (before --frames picks some)
     int job_index = 0; ///< the gr.render (index into the script's jobs) the frame renders
+    /// `path` comes from the script's gr.render name (no -o): it is written only inside the
+    /// current folder (docs/RELIABILITY.md, section 1).
+    bool named_by_script = false;
 };
 
 /// The frames to render, in order, with what to tell the user.
@@ -52,7 +55,8 @@ struct AnimationPlan {
 
 /// Plans the frames of `jobs` (the script's gr.render calls, command-line options applied);
 /// `output` is -o or "". Without --orbit-frames the frames are the jobs (1..count), written where
-/// they are today: the script's names, -o OUT when there is one job, else OUT-k for the k-th.
+/// they are today: the script's names (then named_by_script), -o OUT when there is one job, else
+/// OUT-k for the k-th.
 /// With --orbit-frames N they are N views of the first job, OUT-0001... (or the script's name
 /// with -0001 before the extension). --frames keeps a sub-range. Throws InputError when
 /// --frames lies outside the frames there are (naming the range).

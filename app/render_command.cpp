@@ -85,14 +85,13 @@ int render_frame(RenderSession& session, const RenderJob& job, const std::string
     return complete && !interrupted ? exit_ok : exit_interrupted;
 }
 
-/// Renders one job and writes its image.
-int render_job(RenderSession& session, const RenderJob& job, const std::string& scene_path, const std::string& path,
-               const std::string& frame) {
-    if (render_frame(session, job, path, true) != exit_ok) {
-        if (!job.options.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
+/// Renders one frame and writes its image.
+int render_job(RenderSession& session, const AnimationFrame& frame, const std::string& scene_path, const std::string& label) {
+    if (render_frame(session, frame.job, frame.path, true) != exit_ok) {
+        if (!frame.job.options.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", frame.path.c_str());
         return exit_interrupted;
     }
-    return write_frame(job, scene_path, path, frame, session.image(), session.stats());
+    return write_frame(frame, scene_path, label, session.image(), session.stats());
 }
 
 /// Rank 0 tells the user what stopped every rank (an interruption once: `said` when it was);
@@ -208,8 +207,7 @@ int render_with_ranks(Cluster& cluster, RenderSession& session, const RenderPlan
             mine.reset();
             if (root) {
                 try {
-                    code = write_frame(frame.job, plan.parsed.scene, frame.path, label(frame), session.image(),
-                                       session.stats());
+                    code = write_frame(frame, plan.parsed.scene, label(frame), session.image(), session.stats());
                 } catch (...) {
                     mine = failure_here(std::current_exception(), cluster, nullptr);
                 }
@@ -252,7 +250,7 @@ int render_with_ranks(Cluster& cluster, RenderSession& session, const RenderPlan
                     RenderStats stats;
                     std::string text;
                     frame_of(results[r], image, stats, text);
-                    code = write_frame(frame.job, plan.parsed.scene, frame.path, label(frame), image, stats, &text);
+                    code = write_frame(frame, plan.parsed.scene, label(frame), image, stats, &text);
                 }
             } catch (...) {
                 mine = failure_here(std::current_exception(), cluster, nullptr);
@@ -283,7 +281,8 @@ std::string render_help() {
            "--exposure scales every format. docs/OUTPUT.md has the details.\n"
            "The script runs sandboxed: it reads only regular files under its own folder, and\n"
            "--allow-read DIR (repeatable, command line only) lets it read under DIR too.\n"
-           "Script names for gr.render are relative to the current folder, without '..'.\n"
+           "Script names for gr.render are relative to the current folder, without '..', and\n"
+           "must lead inside it with every symlink followed.\n"
            "Options may also be set in the scene with gr.option('--flag ...'); the command line wins.\n"
            "Exit codes: 0 success, 1 output could not be written (a missing or unwritable folder, found\n"
            "before or after rendering), 2 scene or usage error (a scene that needs more memory than\n"
@@ -304,8 +303,7 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
         for (const AnimationFrame& frame : plan.plan.frames) {
             int code = exit_ok;
             try {
-                code = render_job(session, frame.job, plan.parsed.scene, frame.path,
-                                  plan.numbered ? frame_label(frame) : "");
+                code = render_job(session, frame, plan.parsed.scene, plan.numbered ? frame_label(frame) : "");
             } catch (const std::bad_alloc&) {
                 throw out_of_memory(frame.job, frame.path);
             }

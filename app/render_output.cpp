@@ -6,6 +6,7 @@
 
 #include "app/render_command.h"
 #include "app/render_interrupt.h"
+#include "app/render_plan.h"
 #include "core/io/image_io.h"
 
 #include <algorithm>
@@ -143,14 +144,19 @@ std::string stats_text(const RenderStats& stats, bool timing, bool statistics) {
     return out;
 }
 
-int write_frame(const RenderJob& job, const std::string& scene_path, const std::string& path, const std::string& frame,
-                const Image& image, const RenderStats& stats, const std::string* stats_from_rank) {
+int write_frame(const AnimationFrame& frame, const std::string& scene_path, const std::string& label, const Image& image,
+                const RenderStats& stats, const std::string* stats_from_rank) {
+    const RenderJob& job = frame.job;
+    const std::string& path = frame.path;
     const Options& o = job.options;
+    const OutputPlace place = frame.named_by_script ? OutputPlace::inside_current_folder : OutputPlace::anywhere;
     try {
-        write_image_atomic(path, image, write_settings(o), render_metadata(job, scene_path, stats, frame), &interrupted);
+        write_image_atomic(path, image, write_settings(o), render_metadata(job, scene_path, stats, label), &interrupted, place);
     } catch (const ImageWriteCancelled&) {
         if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
         return exit_interrupted;
+    } catch (const OutputOutsideFolder& e) {
+        throw output_outside(job, e.what());
     }
     if (stats_from_rank)
         std::fputs(stats_from_rank->c_str(), stderr);

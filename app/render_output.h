@@ -2,6 +2,7 @@
 // -t and -S print about the render.
 #pragma once
 
+#include "app/animation.h"
 #include "core/render/image.h"
 #include "core/render/render_stats.h"
 #include "core/scene/scene_desc.h"
@@ -13,9 +14,11 @@ namespace caustica {
 /// What -t and -S print for a render (text, so that a rank can send it to rank 0).
 std::string stats_text(const RenderStats& stats, bool timing, bool statistics);
 
-/// Writes a rendered frame and reports it (-t/-S: `stats`, or the text another rank made of
-/// its own). Returns an exit code (write errors throw).
-int write_frame(const RenderJob& job, const std::string& scene_path, const std::string& path, const std::string& frame,
-                const Image& image, const RenderStats& stats, const std::string* stats_from_rank = nullptr);
+/// Writes a rendered frame to frame.path, its metadata labelled `label` ("3/300" or ""), and
+/// reports it (-t/-S: `stats`, or the text another rank made of its own). A script's name is
+/// written only inside the current folder, checked when writing (docs/RELIABILITY.md, section 1).
+/// Returns an exit code (write errors throw; a script's name that leads outside is InputError).
+int write_frame(const AnimationFrame& frame, const std::string& scene_path, const std::string& label, const Image& image,
+                const RenderStats& stats, const std::string* stats_from_rank = nullptr);
 
 }  // namespace caustica

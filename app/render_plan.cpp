@@ -59,13 +59,18 @@ RenderArguments parse_arguments(const std::vector<std::string>& args) {
 }
 
 /// Refuses, before any rendering, an output that cannot be written. A bad name is the scene's
-/// error (exit 2); a missing or unwritable folder is the environment's, exit 1 like a write that
-/// fails after rendering (README, exit codes). Also removes stale temporaries of killed runs, once
-/// per folder (`cleaned` holds the folders done: an animation writes many frames to one folder).
+/// error (exit 2), and so is a script's name that leads outside the current folder through a
+/// symlink (docs/RELIABILITY.md, section 1; the write checks it again); a missing or unwritable
+/// folder is the environment's, exit 1 like a write that fails after rendering (README, exit
+/// codes). Also removes stale temporaries of killed runs, once per folder (`cleaned` holds the
+/// folders done: an animation writes many frames to one folder).
 void check_writable(const std::string& path, const RenderJob& job, bool from_command_line, std::set<std::string>& cleaned) {
     std::filesystem::path p(path);
     if (!image_format_of(path))
         throw InputError(job.where, "gr.render: output '" + path + "' must end in .png, .exr or .pfm");
+    if (!from_command_line)
+        if (const std::string outside = output_outside_current_folder(path); !outside.empty())
+            throw output_outside(job, outside);
     const std::string prefix = from_command_line ? "-o: cannot write '" + path + "': "
                                                  : job.where.str() + ": gr.render: cannot write '" + path + "': ";
     std::filesystem::path dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
@@ -101,6 +106,11 @@ double view_axis_target(RenderSession& session, const RenderJob& job) {
 }
 
 }  // namespace
+
+InputError output_outside(const RenderJob& job, const std::string& reason) {
+    return InputError(job.where, "gr.render: output " + reason +
+                                     " (scenes write below the current folder; use -o to choose another place)");
+}
 
 InputError out_of_memory(const RenderJob& job, const std::string& path) {
     // The scene asks for more than the machine can hold: a scene error (exit 2, README).

@@ -35,6 +35,10 @@ struct RenderPlan {
 /// (help, interrupted), or -1 to render.
 int plan_render(const std::vector<std::string>& args, RenderSession& session, bool writes, RenderPlan& out);
 
+/// The scene error (exit 2) of a job whose output leads outside the current folder: `reason` is
+/// the message of OutputOutsideFolder.
+InputError output_outside(const RenderJob& job, const std::string& reason);
+
 /// The scene error (exit 2) of a job that needs more memory than there is to render `path`.
 InputError out_of_memory(const RenderJob& job, const std::string& path);
 

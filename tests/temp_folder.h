@@ -1,4 +1,5 @@
-// A fresh folder under the system temp dir for a test's files, removed at the end of the test.
+// A fresh folder under the system temp dir for a test's files, removed at the end of the test;
+// and running in a folder for a while (the current folder a user runs caustica in).
 #pragma once
 
 #include <unistd.h>
@@ -38,6 +39,16 @@ public:
 
 private:
     std::filesystem::path path_;
+};
+
+/// Makes `folder` the process's current folder for its lifetime, then goes back.
+struct InFolder {
+    const std::filesystem::path previous = std::filesystem::current_path();
+    explicit InFolder(const std::filesystem::path& folder) { std::filesystem::current_path(folder); }
+    ~InFolder() {
+        std::error_code ignored;
+        std::filesystem::current_path(previous, ignored);
+    }
 };
 
 }  // namespace caustica::testing

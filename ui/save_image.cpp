@@ -33,6 +33,13 @@ std::string passes_done(const SessionProgress& p) {
     return std::to_string(whole) + " of " + std::to_string(p.passes) + " passes (" + p.stage + " under way)";
 }
 
+/// The refusal of a script's output name that leads outside the current folder.
+SaveResult refused_outside(const RenderJob& job, const std::string& reason) {
+    return {SaveOutcome::failed, InputError(job.where, "gr.render: output " + reason +
+                                                           " (a scene's name saves below the current folder; type "
+                                                           "another name to save elsewhere)").what()};
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJob& job, const std::string& scene_path,
@@ -70,7 +77,7 @@ std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJo
 
 SaveResult save_preview_image(const std::string& path, const Image& image, const RenderJob& job,
                               const std::string& scene_path, const SessionProgress& progress, bool overwrite,
-                              std::optional<SaveToneSettings> tone) {
+                              std::optional<SaveToneSettings> tone, OutputPlace place) {
     namespace fs = std::filesystem;
     if (image.width <= 0 || image.height <= 0) return {SaveOutcome::failed, "nothing rendered yet"};
     const std::optional<ImageFormat> format = image_format_of(path);
@@ -78,6 +85,9 @@ SaveResult save_preview_image(const std::string& path, const Image& image, const
     std::error_code ec;
     const fs::path absolute = fs::absolute(path, ec);
     const std::string shown = ec ? path : absolute.lexically_normal().string();
+    if (place == OutputPlace::inside_current_folder)  // before asking whether to replace a file out there
+        if (const std::string outside = output_outside_current_folder(path); !outside.empty())
+            return refused_outside(job, outside);
     if (!overwrite && fs::exists(path, ec)) return {SaveOutcome::exists, shown + " exists"};
     ImageWriteSettings settings;
     settings.encoding = job.options.srgb ? PixelEncoding::srgb : PixelEncoding::clamped_linear;
@@ -91,7 +101,11 @@ SaveResult save_preview_image(const std::string& path, const Image& image, const
     else if (settings.exposure_stops != 0.0f)
         metadata.push_back({"caustica:exposure", format_number("%.6g", settings.exposure_stops) + " stops"});
     try {
-        write_image_atomic(ec ? path : absolute.string(), image, settings, metadata);
+        // A script's name is written as named, as `caustica render` writes it.
+        const bool as_named = ec || place == OutputPlace::inside_current_folder;
+        write_image_atomic(as_named ? path : absolute.string(), image, settings, metadata, nullptr, place);
+    } catch (const OutputOutsideFolder& e) {
+        return refused_outside(job, e.what());
     } catch (const std::exception& e) {
         return {SaveOutcome::failed, e.what()};
     }

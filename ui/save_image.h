@@ -3,6 +3,7 @@
 // its metadata (PNG text chunks, EXR string attributes; PFM has none).
 #pragma once
 
+#include "core/io/output_folder.h"
 #include "core/render/image.h"
 #include "core/render/render_session.h"
 #include "core/scene/scene_desc.h"
@@ -46,9 +47,13 @@ struct SaveToneSettings {
 /// `tone` (default: the job's --tonemap and --exposure); EXR is linear, unclamped, half or the
 /// job's --exr-pixel float, exposure applied; PFM likewise in float. The metadata names the camera
 /// actually rendered (job.camera: the orbited one). The message names the absolute path written.
+/// `place` is OutputPlace::inside_current_folder when `path` is the script's gr.render name: it
+/// is then written only inside the current folder, as `caustica render` writes it, and refused
+/// with the gr.render's file:line otherwise (docs/RELIABILITY.md, section 1).
 SaveResult save_preview_image(const std::string& path, const Image& image, const RenderJob& job,
                               const std::string& scene_path, const SessionProgress& progress, bool overwrite,
-                              std::optional<SaveToneSettings> tone = std::nullopt);
+                              std::optional<SaveToneSettings> tone = std::nullopt,
+                              OutputPlace place = OutputPlace::anywhere);
 
 /// save_preview_image for a path that must end in .png (kept for existing callers).
 SaveResult save_preview_png(const std::string& path, const Image& image, const RenderJob& job,

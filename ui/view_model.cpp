@@ -19,7 +19,7 @@ LoadSettings load_settings(const ModelConfig& config) {
     settings.timeout_seconds = config.script_timeout;
     settings.memory_limit_bytes = config.script_memory_bytes;
     settings.allow_read = config.allow_read;
-    settings.output_given = true;  // the preview saves where the user says, never to the script's names
+    settings.output_given = true;  // the script's names are only Save's proposal, checked when saved (save)
     return settings;  // no preset of its own: the scene starts as `caustica render SCENE` renders it
 }
 
@@ -281,7 +281,12 @@ SaveResult ViewModel::save(const std::string& path, bool overwrite) {
     if (display_.exposure_to_png && image_format_of(path) == ImageFormat::png)  // EXR and PFM stay linear
         tone = SaveToneSettings{driver_.job().options.tonemap,
                                 static_cast<float>(driver_.job().options.exposure + display_.exposure)};
-    SaveResult result = save_preview_image(absolute, driver_.image(), driver_.job(), scene_path_, progress, overwrite, tone);
+    // The script's own name (what Save proposes) is written as `caustica render` writes it: only
+    // inside the current folder (docs/RELIABILITY.md, section 1). Any other name is the user's.
+    const bool script_named = path == driver_.job().output;
+    const OutputPlace place = script_named ? OutputPlace::inside_current_folder : OutputPlace::anywhere;
+    SaveResult result = save_preview_image(script_named ? path : absolute, driver_.image(), driver_.job(), scene_path_,
+                                           progress, overwrite, tone, place);
     if (result.outcome == SaveOutcome::written) last_saved_ = absolute;
     return result;
 }

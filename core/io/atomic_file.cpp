@@ -103,33 +103,33 @@ pid_t temporary_owner(const std::string& name) {
     return pid > 0 && pid <= std::numeric_limits<pid_t>::max() ? static_cast<pid_t>(pid) : 0;
 }
 
-/// A temporary name beside `path` for this process: ".NAME.caustica-tmp-HOST-PID-N" (`marker`
-/// in the middle), NAME shortened when the whole would pass the 255-byte file name limit.
-std::filesystem::path temporary_path(const std::filesystem::path& path, unsigned serial, const char* marker) {
+/// A temporary's name for the output `name`: ".NAME.caustica-tmp-HOST-PID-N" (`marker` in the
+/// middle), NAME shortened when the whole would pass the 255-byte file name limit.
+std::string temporary_name(const std::string& name, unsigned serial, const char* marker) {
     const std::string suffix = marker + host_tag() + "-" + std::to_string(::getpid()) + "-" + std::to_string(serial);
-    std::string stem = path.filename().string();
+    std::string stem = name;
     const std::size_t room = 255 - 1 - suffix.size();
     if (stem.size() > room) stem.resize(room);
-    return path.parent_path() / ("." + stem + suffix);
+    return "." + stem + suffix;
 }
 
-/// Creates the temporary exclusively (never reusing a file that is there), publishing its name
-/// before it exists so that a signal between the two still finds it. Returns the open stream,
-/// or null with errno set.
-FILE* create_temporary(const std::filesystem::path& target, const char* marker, PublishedTemporary& published,
-                       std::filesystem::path& temporary) {
+/// Creates the temporary for `name` in `folder` exclusively (never reusing a file that is there),
+/// publishing its full path before it exists so that a signal between the two still finds it.
+/// Returns the open stream and the temporary's name in `temporary`, or null with errno set.
+FILE* create_temporary(const OutputFolder& folder, const std::string& name, const char* marker,
+                       PublishedTemporary& published, std::string& temporary) {
     static std::atomic<unsigned> next_serial{0};
     for (int attempt = 0; attempt < 100; ++attempt) {
-        temporary = temporary_path(target, next_serial.fetch_add(1), marker);
-        published.publish(temporary.string());
-        const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        temporary = temporary_name(name, next_serial.fetch_add(1), marker);
+        published.publish((folder.path() / temporary).string());
+        const int fd = ::openat(folder.fd(), temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd < 0 && errno == EEXIST) continue;
         if (fd < 0) return nullptr;
         FILE* file = ::fdopen(fd, "wb");
         if (!file) {
             const int saved = errno;
             ::close(fd);
-            ::unlink(temporary.c_str());
+            ::unlinkat(folder.fd(), temporary.c_str(), 0);
             errno = saved;
         }
         return file;
@@ -173,16 +173,21 @@ int remove_stale_output_temporaries(const std::string& folder) {
     return removed;
 }
 
-void write_file_atomic(const std::string& path, const FileWriteBody& body, const std::atomic<bool>* cancel) {
+void write_file_atomic(const std::string& path, const FileWriteBody& body, const std::atomic<bool>* cancel,
+                       OutputPlace place) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::path target = fs::absolute(path, ec);
     if (ec) throw std::runtime_error("cannot write '" + path + "': " + ec.message());
-    remove_stale_output_temporaries(target.parent_path().string());
+    // Checked here, when writing, not only before rendering (docs/RELIABILITY.md, section 1).
+    const OutputFolder folder(target, place, path);
+    if (!folder.ok()) throw std::runtime_error("cannot write '" + path + "': " + std::strerror(folder.error()));
+    remove_stale_output_temporaries(folder.path().string());
 
+    const std::string name = target.filename().string();
     PublishedTemporary published;
-    fs::path temporary;
-    std::unique_ptr<FILE, int (*)(FILE*)> file(create_temporary(target, write_marker, published, temporary), std::fclose);
+    std::string temporary;
+    std::unique_ptr<FILE, int (*)(FILE*)> file(create_temporary(folder, name, write_marker, published, temporary), std::fclose);
     if (!file) throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
     std::string error;
     FileWriteOutcome outcome = FileWriteOutcome::failed;
@@ -190,7 +195,7 @@ void write_file_atomic(const std::string& path, const FileWriteBody& body, const
         outcome = body(file.get(), error);
     } catch (...) {
         file.reset();
-        ::unlink(temporary.c_str());
+        ::unlinkat(folder.fd(), temporary.c_str(), 0);
         throw;
     }
     if (outcome == FileWriteOutcome::written && (std::fflush(file.get()) != 0 || ::fsync(::fileno(file.get())) != 0)) {
@@ -202,12 +207,12 @@ void write_file_atomic(const std::string& path, const FileWriteBody& body, const
         error = std::strerror(errno);
     }
     if (outcome == FileWriteOutcome::written && cancel && cancel->load()) outcome = FileWriteOutcome::cancelled;
-    if (outcome == FileWriteOutcome::written && std::rename(temporary.c_str(), target.c_str()) != 0) {
+    if (outcome == FileWriteOutcome::written && ::renameat(folder.fd(), temporary.c_str(), folder.fd(), name.c_str()) != 0) {
         outcome = FileWriteOutcome::failed;
         error = std::strerror(errno);
     }
     if (outcome == FileWriteOutcome::written) return;
-    ::unlink(temporary.c_str());
+    ::unlinkat(folder.fd(), temporary.c_str(), 0);
     if (outcome == FileWriteOutcome::cancelled) throw ImageWriteCancelled("writing '" + path + "' was interrupted; nothing written");
     throw std::runtime_error("cannot write '" + path + "': " + (error.empty() ? std::string("write failed") : error));
 }
@@ -219,12 +224,14 @@ std::string output_file_problem(const std::string& path) {
     if (ec) return ec.message();
     if (target.filename().string().size() > 255) return std::strerror(ENAMETOOLONG);
     if (fs::is_directory(target, ec)) return "it is a folder";
+    const OutputFolder folder(target, OutputPlace::anywhere, path);
+    if (!folder.ok()) return std::strerror(folder.error());
     PublishedTemporary published;
-    fs::path temporary;
-    FILE* probe = create_temporary(target, probe_marker, published, temporary);
+    std::string temporary;
+    FILE* probe = create_temporary(folder, target.filename().string(), probe_marker, published, temporary);
     if (!probe) return std::strerror(errno);
     std::fclose(probe);
-    ::unlink(temporary.c_str());
+    ::unlinkat(folder.fd(), temporary.c_str(), 0);
     return {};
 }
 

@@ -1,8 +1,12 @@
 // Atomic output for every format the renderer writes (PNG, OpenEXR, PFM): a hidden temporary
 // beside the target, renamed over it only when whole, so that a failed, cancelled or interrupted
 // write never leaves a truncated file or loses the one that was there; the temporaries of a write
-// in progress are removed by a signal handler, those of killed runs by the next write.
+// in progress are removed by a signal handler, those of killed runs by the next write. The
+// temporary is made and renamed through the open folder (core/io/output_folder.h), so a scene's
+// output lands in the folder that was checked.
 #pragma once
+
+#include "core/io/output_folder.h"
 
 #include <atomic>
 #include <cstdio>
@@ -26,12 +30,15 @@ enum class FileWriteOutcome { written, failed, cancelled };
 /// reason. It may also throw: write_file_atomic then removes the temporary and rethrows.
 using FileWriteBody = std::function<FileWriteOutcome(std::FILE* file, std::string& error)>;
 
-/// Writes `path` atomically, whatever its format: removes stale temporaries of
-/// killed runs from the folder, creates a hidden temporary ".NAME.caustica-tmp-HOST-PID-N" beside
-/// `path` (published for remove_output_temporaries_from_signal_handler), runs `body` on it, flushes,
-/// fsyncs and renames it over `path`. A failure or `cancel` (checked again before the rename)
-/// removes the temporary: std::runtime_error "cannot write 'PATH': reason", or ImageWriteCancelled.
-void write_file_atomic(const std::string& path, const FileWriteBody& body, const std::atomic<bool>* cancel = nullptr);
+/// Writes `path` atomically, whatever its format: opens its folder (checked for `place`: a scene's
+/// name must lead inside the current folder, else OutputOutsideFolder and nothing is written),
+/// removes stale temporaries of killed runs from it, creates a hidden temporary
+/// ".NAME.caustica-tmp-HOST-PID-N" there (published for
+/// remove_output_temporaries_from_signal_handler), runs `body` on it, flushes, fsyncs and renames
+/// it over NAME. A failure or `cancel` (checked again before the rename) removes the temporary:
+/// std::runtime_error "cannot write 'PATH': reason", or ImageWriteCancelled.
+void write_file_atomic(const std::string& path, const FileWriteBody& body, const std::atomic<bool>* cancel = nullptr,
+                       OutputPlace place = OutputPlace::anywhere);
 
 /// Checks, without writing anything, that write_file_atomic could write `path`: its folder takes
 /// a new file (a temporary is created and removed at once, which also catches a read-only file

@@ -388,7 +388,7 @@ ImageMetadata read_exr_metadata(const std::string& path) {
 }
 
 void write_exr_atomic(const std::string& path, const Image& image, ExrPixel pixel, const ImageMetadata& metadata,
-                      const std::atomic<bool>* cancel) {
+                      const std::atomic<bool>* cancel, OutputPlace place) {
     if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": cannot write an empty image");
     write_file_atomic(
         path,
@@ -431,7 +431,7 @@ void write_exr_atomic(const std::string& path, const Image& image, ExrPixel pixe
                 return FileWriteOutcome::failed;
             }
         },
-        cancel);
+        cancel, place);
 }
 
 }  // namespace caustica

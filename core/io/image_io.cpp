@@ -227,14 +227,15 @@ Image prepare_for_format(const Image& image, ImageFormat format, const ImageWrit
     return out;
 }
 
-void write_pfm_atomic(const std::string& path, const Image& image, const std::atomic<bool>* cancel) {
+void write_pfm_atomic(const std::string& path, const Image& image, const std::atomic<bool>* cancel, OutputPlace place) {
     if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": cannot write an empty image");
     write_file_atomic(
-        path, [&](std::FILE* file, std::string& error) { return write_pfm_stream(file, image, cancel, error); }, cancel);
+        path, [&](std::FILE* file, std::string& error) { return write_pfm_stream(file, image, cancel, error); }, cancel,
+        place);
 }
 
 void write_image_atomic(const std::string& path, const Image& image, const ImageWriteSettings& settings,
-                        const ImageMetadata& metadata, const std::atomic<bool>* cancel) {
+                        const ImageMetadata& metadata, const std::atomic<bool>* cancel, OutputPlace place) {
     const std::optional<ImageFormat> format = image_format_of(path);
     if (!format) throw std::runtime_error("cannot write '" + path + "': the name must end in .png, .exr or .pfm");
     const bool untouched = settings.exposure_stops == 0.0f && (*format != ImageFormat::png || settings.tonemap == Tonemap::clamp);
@@ -243,9 +244,9 @@ void write_image_atomic(const std::string& path, const Image& image, const Image
     if (!untouched) prepared = prepare_for_format(image, *format, settings);
     const Image& source = untouched ? image : prepared;
     switch (*format) {
-        case ImageFormat::png: write_png_atomic(path, source, settings.encoding, metadata, cancel); return;
-        case ImageFormat::exr: write_exr_atomic(path, source, settings.exr_pixel, metadata, cancel); return;
-        case ImageFormat::pfm: write_pfm_atomic(path, source, cancel); return;
+        case ImageFormat::png: write_png_atomic(path, source, settings.encoding, metadata, cancel, place); return;
+        case ImageFormat::exr: write_exr_atomic(path, source, settings.exr_pixel, metadata, cancel, place); return;
+        case ImageFormat::pfm: write_pfm_atomic(path, source, cancel, place); return;
     }
 }
 

@@ -56,17 +56,20 @@ using ImageMetadata = std::vector<std::pair<std::string, std::string>>;
 
 /// Writes `image` to `path` in the format of its extension (png, exr or pfm) atomically, as
 /// write_png_atomic does. Throws std::runtime_error naming the path for an unknown extension or a
-/// failed write, ImageWriteCancelled when `cancel` was raised (nothing is left behind).
+/// failed write, ImageWriteCancelled when `cancel` was raised (nothing is left behind),
+/// OutputOutsideFolder when `place` confines it to the current folder and it would land elsewhere.
 void write_image_atomic(const std::string& path, const Image& image, const ImageWriteSettings& settings,
-                        const ImageMetadata& metadata = {}, const std::atomic<bool>* cancel = nullptr);
+                        const ImageMetadata& metadata = {}, const std::atomic<bool>* cancel = nullptr,
+                        OutputPlace place = OutputPlace::anywhere);
 
 /// PFM ("PF", 3 channels, little-endian, rows bottom to top as the format says), atomically.
-void write_pfm_atomic(const std::string& path, const Image& image, const std::atomic<bool>* cancel = nullptr);
+void write_pfm_atomic(const std::string& path, const Image& image, const std::atomic<bool>* cancel = nullptr,
+                      OutputPlace place = OutputPlace::anywhere);
 
 /// OpenEXR (scan lines, ZIP compression, channels R G B of `pixel` type, `metadata` as string
 /// attributes), atomically.
 void write_exr_atomic(const std::string& path, const Image& image, ExrPixel pixel, const ImageMetadata& metadata = {},
-                      const std::atomic<bool>* cancel = nullptr);
+                      const std::atomic<bool>* cancel = nullptr, OutputPlace place = OutputPlace::anywhere);
 
 /// The image a write would store: `image` x 2^exposure, then for PNG the tone curve (whose output
 /// write_png_atomic then encodes). With the defaults the result is `image` itself.

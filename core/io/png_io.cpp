@@ -345,7 +345,7 @@ unsigned char encode_channel(float value, PixelEncoding encoding) {
 
 void write_png_atomic(const std::string& path, const Image& image, PixelEncoding encoding,
                       const std::vector<std::pair<std::string, std::string>>& text,
-                      const std::atomic<bool>* cancel) {
+                      const std::atomic<bool>* cancel, OutputPlace place) {
     if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": cannot write an empty image");
     write_file_atomic(
         path,
@@ -357,7 +357,7 @@ void write_png_atomic(const std::string& path, const Image& image, PixelEncoding
             }
             return FileWriteOutcome::failed;
         },
-        cancel);
+        cancel, place);
 }
 
 PngHeader read_png_header(std::span<const unsigned char> bytes, const std::string& display_name,

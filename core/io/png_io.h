@@ -34,10 +34,11 @@ unsigned char encode_channel(float value, PixelEncoding encoding);
 /// a truncated image. `text` becomes tEXt chunks. `cancel`, when given, is checked before every
 /// row: once it reads true the write stops, the temporary is removed and ImageWriteCancelled is
 /// thrown. Temporaries left in the folder by killed runs (their process gone) are removed first.
-/// Throws std::runtime_error naming the path on failure (nothing is left behind).
+/// Throws std::runtime_error naming the path on failure (nothing is left behind), and
+/// OutputOutsideFolder when `place` confines it to the current folder and it would land elsewhere.
 void write_png_atomic(const std::string& path, const Image& image, PixelEncoding encoding,
                       const std::vector<std::pair<std::string, std::string>>& text = {},
-                      const std::atomic<bool>* cancel = nullptr);
+                      const std::atomic<bool>* cancel = nullptr, OutputPlace place = OutputPlace::anywhere);
 
 /// 8-bit RGB(A) image as read from a PNG.
 struct Png8 {

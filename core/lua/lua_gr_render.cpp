@@ -26,7 +26,8 @@ int image_size_arg(lua_State* L, int index, const char* what) {
 }
 
 /// Output names from a script are relative to the folder caustica runs in and stay below it:
-/// a scene may not write anywhere else (the user's -o may).
+/// a scene may not write anywhere else (the user's -o may). This checks the name as text; where it
+/// leads through symlinks is checked before rendering and when writing (core/io/output_folder.h).
 void check_output_name(const std::string& name) {
     if (name.find('\0') != std::string::npos) throw InputError("output file name contains a NUL byte");
     const std::filesystem::path path(name);

@@ -3,7 +3,8 @@
 // (A1). Each test runs `caustica render` in a child under hard limits (tests/repro/repro_runner.h)
 // on a copy of the reproducer in a fresh folder, and asserts the exact outcome: exit code, the
 // "file:line:" of the message, nothing read or written outside, the time taken. Part 2 (memory,
-// crashes, NaN) is test_repro_resources.cpp, part 3 (OBJ, PNG) test_repro_inputs.cpp.
+// crashes, NaN) is test_repro_resources.cpp, part 3 (OBJ, PNG) test_repro_inputs.cpp, part 4 (outputs
+// through symlinks) test_repro_output.cpp.
 #include "tests/repro/repro_runner.h"
 
 #include <gtest/gtest.h>

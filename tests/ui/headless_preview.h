@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -30,17 +31,24 @@ inline Rgb pixel(const std::vector<unsigned char>& rgba, int x, int y) {
     return {p[0], p[1], p[2]};
 }
 
+/// $CAUSTICA_DOC_IMAGES made absolute when the test program starts (a test may change the
+/// current folder), or empty.
+inline const std::string doc_images_folder = [] {
+    const char* folder = std::getenv("CAUSTICA_DOC_IMAGES");
+    return folder && *folder ? std::filesystem::absolute(folder).string() : std::string();
+}();
+
 /// Writes a snapshot to $CAUSTICA_DOC_IMAGES/name when that is set (the docs' screenshots).
 inline void write_doc_image(const std::vector<unsigned char>& rgba, const std::string& name) {
-    const char* folder = std::getenv("CAUSTICA_DOC_IMAGES");
-    if (!folder || !*folder) return;
+    if (doc_images_folder.empty()) return;
+    const std::string& folder = doc_images_folder;
     Image image(window_width, window_height);
     for (int y = 0; y < window_height; ++y)
         for (int x = 0; x < window_width; ++x) {
             const Rgb p = pixel(rgba, x, y);
             image.at(x, y) = (glm::vec3(p.r, p.g, p.b) + 0.5f) / 255.0f;  // truncated back to p
         }
-    write_png_atomic(std::string(folder) + "/" + name, image, PixelEncoding::clamped_linear);
+    write_png_atomic(folder + "/" + name, image, PixelEncoding::clamped_linear);
 }
 
 /// The window, the model and the app, with `scene_text` loaded (reproducible, two threads).

@@ -75,9 +75,11 @@ TEST(SnapshotWysiwyg, CopiedCommandLineRendersTheImageShown) {
 TEST(SnapshotWysiwyg, SaveQuestionsAnswerToEnterAndEsc) {
     // A progressive preview without a stopping rule renders until paused: always "in progress".
     std::string text = caustic_box_text(20000, "gr.option('--integrator progressive')\n");
+    // The script names its output as a scene does, below the folder the preview runs in.
     TempFolder out;
+    const caustica::testing::InFolder in_out(out.path());
     const std::string saved = out.file("shot.png");
-    text.replace(text.find("'caustic_box.png', 256, 192"), 27, "'" + saved + "', 64, 48");
+    text.replace(text.find("'caustic_box.png', 256, 192"), 27, "'shot.png', 64, 48");
     Preview preview(text);
     ASSERT_TRUE(preview.run_until([&] { return preview.model->driver().accumulation().passes_done >= 1; }));
     auto frame = [&](std::vector<int> taps, bool ctrl = false) {

@@ -10,8 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
-
+#include <fstream>
+#include <iterator>
 #include <map>
 
 namespace caustica::ui {
@@ -275,6 +277,35 @@ TEST(ViewModel, SaveWritesThePngWithItsParametersAndAsksBeforeReplacing) {
     r = m.model.save(path, true);
     EXPECT_EQ(r.outcome, SaveOutcome::written);
     EXPECT_EQ(m.model.save(m.folder.file("saved.jpg"), false).outcome, SaveOutcome::failed);
+}
+
+TEST(ViewModel, SavingTheScriptsNameThroughASymlinkLeadingOutIsRefused) {
+    // The scene names 'pics/holiday.png'; the folder the preview runs in holds pics -> ../victim, as
+    // an archive restores it. Save proposes the script's name, which lands only inside the current
+    // folder (docs/RELIABILITY.md, section 1); a name the user types goes anywhere.
+    std::string text = caustic_box_text(20000);
+    text.replace(text.find("'caustic_box.png'"), 17, "'pics/holiday.png'");
+    const int render_line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + text.find("gr.render("), '\n'));
+    LoadedModel m(text);
+    const std::string victim = m.folder.write("victim/holiday.png", "PRECIOUS-PHOTO");
+    fs::create_directory(m.folder.path() / "work");
+    fs::create_directory_symlink(m.folder.path() / "victim", m.folder.path() / "work" / "pics");
+    const caustica::testing::InFolder in(m.folder.path() / "work");
+    ASSERT_EQ(m.model.default_save_path(), "pics/holiday.png");
+    const SaveResult refused = m.model.save("pics/holiday.png", true);
+    EXPECT_EQ(refused.outcome, SaveOutcome::failed);
+    const std::string located = "scene.lua:" + std::to_string(render_line) + ": gr.render: output 'pics/holiday.png' leads to '";
+    EXPECT_NE(refused.message.find(located), std::string::npos) << refused.message;
+    std::ifstream kept(victim, std::ios::binary);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), std::istreambuf_iterator<char>()), "PRECIOUS-PHOTO");
+    const SaveResult typed = m.model.save(m.folder.file("victim/mine.png"), false);
+    EXPECT_EQ(typed.outcome, SaveOutcome::written) << typed.message;
+    // With pics a plain folder the script's name is saved there.
+    fs::remove(m.folder.path() / "work" / "pics");
+    fs::create_directory(m.folder.path() / "work" / "pics");
+    const SaveResult plain = m.model.save("pics/holiday.png", false);
+    EXPECT_EQ(plain.outcome, SaveOutcome::written) << plain.message;
+    EXPECT_TRUE(fs::is_regular_file(m.folder.path() / "work" / "pics" / "holiday.png"));
 }
 
 TEST(ViewModel, ResolutionScaleAndThreadsRenderAgainOnly) {
