@@ -97,6 +97,8 @@ std::string stats_text(const RenderStats& stats, bool timing, bool statistics) {
         appendf(out, "  mesh instances         %9zu (%zu meshes, %zu triangles stored, %zu in the world)\n",
                      stats.scene.mesh_instances, stats.scene.unique_meshes, stats.scene.triangles_stored, stats.scene.triangles_instanced);
         appendf(out, "  CSG objects            %9zu (%zu primitives inside)\n", stats.scene.csg_objects, stats.scene.csg_leaves);
+        appendf(out, "  scene memory           %9.1f MiB estimated (meshes and their BVH, instances, textures)\n",
+                     stats.scene.estimated_bytes / 1048576.0);
         appendf(out, "  camera samples         %9llu\n", static_cast<unsigned long long>(r.samples));
         appendf(out, "  anti-aliased pixels    %9llu\n", static_cast<unsigned long long>(r.supersampled_pixels));
         appendf(out, "  rays: primary          %9llu\n", static_cast<unsigned long long>(r.primary));

@@ -54,8 +54,8 @@ const std::string& scene_folder() {
     return path;
 }
 
-/// The job made small and cheap: 8 x 8, one thread, no anti-aliasing, few photons. Everything
-/// else (camera, lights, materials, the other options) stays as the script made it.
+/// The job made small and cheap: 8 x 8, one thread, no anti-aliasing, few photons, a 1 GiB render
+/// budget. Everything else (camera, lights, materials, the other options) stays as the script made it.
 RenderJob tiny(RenderJob job) {
     job.width = job.height = 8;
     Options& o = job.options;
@@ -67,6 +67,7 @@ RenderJob tiny(RenderJob job) {
     o.caustic_num_photons = std::min<long long>(o.caustic_num_photons, 2000);
     o.shadow_grid = std::min(o.shadow_grid, 2);
     o.max_depth = std::min(o.max_depth, 4);
+    o.render_memory_mib = 1024;  // what the renderer builds stays within the target's 2 GiB process bound
     return job;
 }
 

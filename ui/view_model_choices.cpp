@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unistd.h>
 
 namespace caustica::ui {
 namespace {
@@ -44,8 +43,8 @@ std::string describe_rules(const StopRules& r) {
 }  // namespace
 
 long long photon_memory_limit() {
-    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-    const double limit = std::floor(0.6 * physical / photon_memory_bound(1.0));  // check_photon_memory's budget
+    // check_photon_memory's budget when the scene itself takes next to nothing.
+    const double limit = std::floor(default_render_memory_bytes() / photon_memory_bound(1.0));
     return static_cast<long long>(std::clamp(limit, 0.0, 100e9));  // --caustic-num-photons' own range ends at 1e11
 }
 

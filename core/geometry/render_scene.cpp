@@ -1,6 +1,7 @@
 #include "core/geometry/render_scene.h"
 
 #include "core/geometry/render_scene_callbacks.h"
+#include "core/geometry/scene_memory.h"
 #include "core/scene/source_location.h"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -172,6 +173,7 @@ RenderScene::RenderScene(const SceneDesc& desc, const FlatScene& flat, const std
 
 void RenderScene::build(const SceneDesc& desc, const FlatScene& flat) {
     RTCDevice device = embree_device();
+    info_.estimated_bytes = total_bytes(scene_memory_charges(desc, flat));  // the photon maps get the rest
     for (const MaterialDesc& m : desc.materials) materials_.push_back(Material::from_desc(m));
     default_material_ = static_cast<int>(materials_.size());
     for (const MaterialDesc& m : desc.materials) surface_frames_ |= m.texture >= 0 || m.bumpmap >= 0;

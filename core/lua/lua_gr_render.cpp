@@ -121,9 +121,13 @@ CallResult gr_option(lua_State* L, LoaderContext& ctx) {
     const std::string text = string_arg(L, 1, "options");
     Options options = ctx.options;  // all or nothing
     const std::vector<std::string> tokens = split_option_string(text);
-    for (const std::string& token : tokens)
+    for (const std::string& token : tokens) {
         if (token.rfind("--allow-read", 0) == 0)
             throw InputError("--allow-read is for the command line only: a scene cannot widen what it may read");
+        if (token.rfind("--render-memory", 0) == 0)
+            throw InputError("--render-memory is for the command line only: a scene cannot raise what the renderer "
+                             "may build");
+    }
     apply_option_tokens(options, tokens);
     ctx.options = options;
     const SourceLocation where = caller_location(L);

@@ -5,6 +5,7 @@
 #include "core/scene/source_location.h"
 #include "core/shading/texture.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
@@ -19,20 +20,16 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 bool is_specular(const MaterialDesc& m) { return m.reflective || m.refractive_index.has_value() || m.air; }
 
-/// Whether the job wants a map of caustic paths (and its projection maps).
-bool caustic_map_wanted(const RenderJob& job) {
-    const Options& o = job.options;
-    if (job.lights.empty() || o.no_caustic_map) return false;
-    if (o.caustic_num_photons <= 0 && !o.show_projection_map) return false;
-    for (const NodeDesc& node : job.scene->nodes)
-        if (node.material >= 0 && is_specular(job.scene->materials[node.material])) return true;
-    return false;
-}
-
 /// Whether the job wants the classic GI map: it needs lights, not a specular object.
 bool gi_map_wanted(const RenderJob& job) {
     const Options& o = job.options;
     return o.gi_wanted() && o.gi_num_photons > 0 && !job.lights.empty();
+}
+
+/// What the renderer's memory budget leaves for photons once the scene is built (docs/RELIABILITY.md,
+/// "Bounded memory"); never 0, which check_photon_memory reads as the default budget.
+double photon_memory_left(const RenderJob& job, const RenderScene& scene) {
+    return std::max(job.options.render_memory_bytes() - scene.info().estimated_bytes, 1.0);
 }
 
 std::uint64_t stage_seed(const Options& o) {
@@ -53,6 +50,15 @@ std::vector<Light> job_lights(const RenderJob& job) {
         lights.push_back({glm::vec3(d.position), glm::vec3(d.colour), glm::vec3(d.falloff), static_cast<float>(d.radius)});
     }
     return lights;
+}
+
+bool caustic_map_wanted(const RenderJob& job) {
+    const Options& o = job.options;
+    if (job.lights.empty() || o.no_caustic_map) return false;
+    if (o.caustic_num_photons <= 0 && !o.show_projection_map) return false;
+    for (const NodeDesc& node : job.scene->nodes)
+        if (node.material >= 0 && is_specular(job.scene->materials[node.material])) return true;
+    return false;
 }
 
 bool classic_photons_wanted(const RenderJob& job) { return caustic_map_wanted(job) || gi_map_wanted(job); }
@@ -117,6 +123,7 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.pass = extras.pass;
     settings.max_depth = o.max_depth;
     settings.split = o.photon_split;
+    settings.memory_budget_bytes = photon_memory_left(job, scene);
     settings.progress = extras.progress;
     if (extras.first) {  // a later pass: the first pass's projection maps, as it used them
         settings.prebuilt_maps.assign(lights.size(), nullptr);
@@ -290,6 +297,7 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
     settings.projection_map_granularity = o.caustic_pm_gran;
     settings.build_projection_maps = caustic_map_wanted(job) && o.show_projection_map;
     settings.seed = stage_seed(o);
+    settings.memory_budget_bytes = photon_memory_left(job, scene);
     ClassicPhotonResult pass;
     if (!cluster) {
         pass = shoot_classic_photons(scene, textures, lights, settings, cancel);
@@ -326,7 +334,7 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
     // A GI photon may be stored at every hit of its path: check what was stored before the trees
     // double it.
     const double stored = static_cast<double>(pass.caustic.size() + pass.gi.size());
-    check_photon_memory(stored, gi ? o.gi_num_photons : o.caustic_num_photons, 0.0,
+    check_photon_memory(stored, gi ? o.gi_num_photons : o.caustic_num_photons, settings.memory_budget_bytes,
                         gi ? "--gi-num-photons" : "--caustic-num-photons");
     const auto t0 = std::chrono::steady_clock::now();
     if (caustic) stage.map = std::make_unique<PhotonMap>(std::move(pass.caustic));

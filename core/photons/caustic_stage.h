@@ -24,6 +24,10 @@ class Cluster;
 /// The lights a job renders with, as the renderer uses them.
 std::vector<Light> job_lights(const RenderJob& job);
 
+/// Whether the job wants a map of caustic paths: lights, caustic photons (or the projection-map
+/// view) requested, no --no-caustic-map, and a reflective or transparent material on a node.
+bool caustic_map_wanted(const RenderJob& job);
+
 /// Whether a classic job needs its photon stage: lights present, and either caustic photons
 /// requested, not disabled, with at least one reflective or transparent material on a node (no
 /// specular object: no caustics), or the GI map wanted with GI photons requested.

@@ -14,7 +14,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <unistd.h>
 
 namespace caustica {
 namespace {
@@ -231,14 +230,14 @@ double photon_memory_bound(double photons) {
 }
 
 void check_photon_memory(double photons, long long requested, double budget_bytes, const char* option) {
-    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-    const double budget = budget_bytes > 0.0 ? budget_bytes : 0.6 * physical;
+    const double budget = budget_bytes > 0.0 ? budget_bytes : default_render_memory_bytes();
     const double needed = photon_memory_bound(photons);
     if (needed <= budget) return;
     char message[320];
     std::snprintf(message, sizeof message,
                   "%s %lld: the %.3g photons the projection maps let through would need up to "
-                  "%.1f GiB for the photon map, more than the %.1f GiB this machine can spare",
+                  "%.1f GiB for the photon map, more than the %.1f GiB the renderer's memory budget leaves "
+                  "for photons (--render-memory MiB raises it)",
                   option, requested, photons, needed / (1 << 30), budget / (1 << 30));
     throw InputError(message);
 }

@@ -41,7 +41,7 @@ struct PhotonPassSettings {
     /// Every path with at least one bounce is stored at each diffuse hit and continues by a
     /// Lambertian bounce (progressive --gi); no projection map. Otherwise caustic paths only.
     bool global_illumination = false;
-    double memory_budget_bytes = 0.0;  ///< refuse passes whose photons could exceed this (0 = 60% of RAM)
+    double memory_budget_bytes = 0.0;  ///< refuse passes whose photons could exceed this (0 = default_render_memory_bytes())
     /// Progressive passes after the first reuse its projection maps: one per light (null = none).
     /// Empty: each light's map is decided and built as usual.
     std::vector<const ProjectionMap*> prebuilt_maps;
@@ -82,8 +82,8 @@ RouletteOdds roulette_odds(const Material& m);
 /// Bytes a photon map of `photons` stored photons may need at most (photons, tree, build buffers).
 double photon_memory_bound(double photons);
 
-/// Throws InputError when `photons` stored photons could not fit in `budget_bytes` (0 = 60% of
-/// the machine's memory). Called before anything is allocated for them. `option` names the
+/// Throws InputError when `photons` stored photons could not fit in `budget_bytes` (0 =
+/// default_render_memory_bytes()). Called before anything is allocated for them. `option` names the
 /// option that asked for `requested` photons in the message.
 void check_photon_memory(double photons, long long requested, double budget_bytes,
                          const char* option = "--caustic-num-photons");

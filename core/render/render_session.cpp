@@ -7,6 +7,7 @@
 #include "core/util/denormals.h"
 #include "core/integrators/registry.h"
 #include "core/render/random.h"
+#include "core/render/render_memory.h"
 #include "core/geometry/render_scene.h"
 #include "core/scene/scene_flatten.h"
 #include "core/scene/scene_validate.h"
@@ -133,6 +134,7 @@ void RenderSession::prepare_scene() {
     const double t0 = now_seconds();
     FlatScene flat = flatten_scene(job_);
     validate_flat_scene(flat, *job_.scene);
+    check_render_memory(job_, flat);  // refused before anything is built (docs/RELIABILITY.md, "Bounded memory")
     {
         std::lock_guard lock(mutex_);  // pick() may be reading the old scene from another thread
         scene_.reset();

@@ -74,6 +74,7 @@ struct SceneBuildInfo {
     std::size_t triangles_instanced = 0;  ///< triangles as seen in the world
     std::size_t csg_objects = 0;
     std::size_t csg_leaves = 0;           ///< primitives inside CSG objects
+    double estimated_bytes = 0.0;         ///< what it was estimated to cost, textures included (scene_memory.h)
 };
 
 /// The caustic photon pass of one light, for -S.

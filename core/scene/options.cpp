@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <sstream>
+#include <unistd.h>
 
 namespace caustica {
 namespace {
@@ -277,6 +278,10 @@ const std::vector<OptionSpec>& option_table() {
         integer("script-memory", 0, "scene",
                 "MiB the scene script may use: Lua heap, scene data, meshes and decoded images (0 = no limit)",
                 &Options::script_memory_mib, 0, 1 << 20).feeds(stage_none),
+        integer("render-memory", 0, "scene",
+                "MiB the renderer may build: meshes and their BVH, instances, textures, photon maps "
+                "(0 = 60% of this machine's memory)",
+                &Options::render_memory_mib, 0, 1 << 30).feeds(stage_none),
         integer("caustic-num-photons", 0, "caustics", "photons shot per light for the caustic map (0 = off)",
                 &Options::caustic_num_photons, 0, 100'000'000'000LL).feeds(stage_photons),
         integer("caustic-num-neighbours", 0, "caustics", "photons in each radiance estimate",
@@ -376,6 +381,15 @@ std::string closest_option(std::string_view name) {
 }
 
 }  // namespace
+
+double default_render_memory_bytes() {
+    const double pages = static_cast<double>(::sysconf(_SC_PHYS_PAGES));
+    return 0.6 * pages * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+}
+
+double Options::render_memory_bytes() const {
+    return render_memory_mib > 0 ? static_cast<double>(render_memory_mib) * 1048576.0 : default_render_memory_bytes();
+}
 
 int edit_distance(std::string_view a, std::string_view b) {
     std::vector<int> row(b.size() + 1);

@@ -75,6 +75,7 @@ struct Options {
     double min_weight = 1e-3;      ///< stop a ray path when its weight falls below this
     double script_timeout = 60.0;  ///< seconds of script evaluation, 0 = none
     long long script_memory_mib = 2048;  ///< budget of the script (Lua heap + what it makes C++ hold), 0 = none
+    long long render_memory_mib = 0;     ///< budget of what the renderer builds, 0 = default_render_memory_bytes()
     long long seed = 0;            ///< base of the random streams
     /// Progressive photon mapping: passes of fresh photons and pixel samples averaged with a
     /// shrinking radius. 1 = the single k-nearest pass; 0 = until another rule stops it. Read the
@@ -89,6 +90,9 @@ struct Options {
         return caustic_max_dist < 0.0 ? 0.15 * unit_distance : caustic_max_dist;
     }
 
+    /// The renderer's memory budget in bytes: --render-memory, or default_render_memory_bytes().
+    double render_memory_bytes() const;
+
     /// Whether the GI photon map is wanted (--gi or one of its debug views).
     bool gi_wanted() const { return gi || draw_gi_map || draw_gi_only; }
     /// The pass limit in effect (0 = none): --passes when given (or set to anything but 1); else
@@ -102,6 +106,10 @@ struct Options {
         return integrator == IntegratorKind::progressive && (passes != 1 || time_limit > 0.0 || target_error > 0.0);
     }
 };
+
+/// What the renderer may build when --render-memory is 0: 60% of the machine's physical memory
+/// (docs/RELIABILITY.md, "Bounded memory").
+double default_render_memory_bytes();
 
 /// The stages of a render that an option's value feeds. RenderSession caches each stage by the
 /// options that feed it (and by the scene), so a change re-runs the stages it feeds and every

@@ -24,24 +24,6 @@ std::string number(double v) {
 
 std::string vector_text(const glm::dvec3& v) { return "(" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + ")"; }
 
-/// How a script names the call that made a node.
-const char* node_call(NodeKind kind) {
-    switch (kind) {
-        case NodeKind::group: return "gr.node";
-        case NodeKind::sphere: return "gr.sphere";
-        case NodeKind::cube: return "gr.cube";
-        case NodeKind::cylinder: return "gr.cylinder";
-        case NodeKind::cone: return "gr.cone";
-        case NodeKind::nh_sphere: return "gr.nh_sphere";
-        case NodeKind::nh_box: return "gr.nh_box";
-        case NodeKind::mesh: return "gr.mesh";
-        case NodeKind::csg_union: return "gr.union";
-        case NodeKind::csg_intersection: return "gr.intersection";
-        case NodeKind::csg_difference: return "gr.difference";
-    }
-    return "gr.node";
-}
-
 const char* transform_call(TransformOp::Kind kind) {
     switch (kind) {
         case TransformOp::Kind::translate: return "node:translate";
@@ -225,6 +207,23 @@ void check_options(const Options& o) {
 }
 
 }  // namespace
+
+const char* node_call(NodeKind kind) {
+    switch (kind) {
+        case NodeKind::group: return "gr.node";
+        case NodeKind::sphere: return "gr.sphere";
+        case NodeKind::cube: return "gr.cube";
+        case NodeKind::cylinder: return "gr.cylinder";
+        case NodeKind::cone: return "gr.cone";
+        case NodeKind::nh_sphere: return "gr.nh_sphere";
+        case NodeKind::nh_box: return "gr.nh_box";
+        case NodeKind::mesh: return "gr.mesh";
+        case NodeKind::csg_union: return "gr.union";
+        case NodeKind::csg_intersection: return "gr.intersection";
+        case NodeKind::csg_difference: return "gr.difference";
+    }
+    return "gr.node";
+}
 
 void validate_render_job(const RenderJob& job) {
     if (!job.scene) throw InputError("no scene to render");

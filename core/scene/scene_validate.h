@@ -32,6 +32,9 @@ inline constexpr double max_shininess = 1e6;
 /// powers stay finite.
 inline constexpr double max_photon_power = 1e30;
 
+/// How a script names the call that made a node of `kind` ("gr.sphere"), for messages.
+const char* node_call(NodeKind kind);
+
 /// Checks the numeric options, camera, lights, materials, ambient and miss colours, node
 /// parameters and transform calls of a job, and the photon power its options give each light. Throws InputError naming
 /// the line of the entity at fault (the camera's is the gr.render line).

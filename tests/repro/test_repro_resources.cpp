@@ -8,6 +8,7 @@
 #include "tests/repro/repro_runner.h"
 
 #include "core/lua/scene_loader.h"
+#include "core/geometry/scene_memory.h"
 #include "core/scene/options.h"
 #include "core/io/png_io.h"
 #include "core/render/render_session.h"
@@ -15,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <initializer_list>
 #include <sys/stat.h>
 
@@ -104,6 +106,46 @@ TEST(ReproMemory, M1_PhotonRefusalFromGrOptionNamesTheLine) {
     EXPECT_NE(o.err.find("--caustic-num-photons"), std::string::npos) << o.describe();
     EXPECT_LE(o.seconds, 5.0 * time_factor()) << o.describe();
     EXPECT_FALSE(fs::exists(s.root() / "x.png"));
+}
+
+// ---- R6: what the renderer builds has a budget too ----
+
+namespace {
+
+/// mesh_memory/mesh.lua (its gr.mesh on line 3) beside the tri.obj it reads: `triangles` copies of
+/// one triangle, as the reproducer writes (20 million there).
+void write_mesh_scene(const Scratch& s, int triangles) {
+    s.copy("mesh_memory/mesh.lua", "mesh.lua");
+    std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    obj.reserve(obj.size() + 8 * static_cast<std::size_t>(triangles));
+    for (int i = 0; i < triangles; ++i) obj += "f 1 2 3\n";
+    s.write("tri.obj", obj);
+}
+
+constexpr int mesh_triangles = 200000;  // 22.3 MiB once built (scene_memory.h)
+
+}  // namespace
+
+TEST(ReproMemory, R6_AMeshOverTheRenderBudgetIsRefusedWithItsLineAndFigures) {
+    Scratch s;
+    write_mesh_scene(s, mesh_triangles);
+    const Outcome o =
+        caustica_run(s.root(), {"render", "-s", "--render-memory", "8", "mesh.lua", "-o", "x.png"}, 10.0, 512 * mib);
+    expect_outcome(o, s.root() / "x.png", 16, 16, "mesh.lua", Expected::error(3, "gr.mesh"));
+    char figure[64];
+    std::snprintf(figure, sizeof figure, "(%d triangles, 3 vertices) would take %.1f MiB once built", mesh_triangles,
+                  (mesh_triangles * caustica::mesh_triangle_bytes + 3 * caustica::mesh_vertex_bytes) / double(mib));
+    EXPECT_NE(o.err.find(figure), std::string::npos) << figure << "\n" << o.describe();
+    EXPECT_NE(o.err.find("memory budget of 8.0 MiB (--render-memory MiB raises it)"), std::string::npos) << o.describe();
+    EXPECT_LE(o.seconds, 3.0 * time_factor()) << o.describe();
+}
+
+TEST(ReproMemory, R6_TheSameMeshRendersUnderALargerRenderBudget) {
+    Scratch s;
+    write_mesh_scene(s, mesh_triangles);
+    const Outcome o =
+        caustica_run(s.root(), {"render", "-s", "--render-memory", "64", "mesh.lua", "-o", "x.png"}, 20.0, 1 * gib);
+    expect_outcome(o, s.root() / "x.png", 16, 16, "mesh.lua", Expected::image());
 }
 
 // ---- R5: option ranges bound per-thread scratch memory ----

@@ -65,6 +65,7 @@ const std::map<std::string, std::vector<std::string>>& other_values() {
         {"hires", {"--hires"}},
         {"script-timeout", {"--script-timeout 5"}},
         {"script-memory", {"--script-memory 100"}},
+        {"render-memory", {"--render-memory 100000"}},
         {"caustic-num-photons", {"--caustic-num-photons 30000"}},
         {"caustic-num-neighbours", {"--caustic-num-neighbours 12"}},
         {"caustic-pm-gran", {"--caustic-pm-gran 40"}},
