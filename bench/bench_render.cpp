@@ -86,7 +86,7 @@ void BM_EmbreeIntersect8Raw(benchmark::State& state, const std::string& scene_na
     const RenderJob& job = course_job(scene_name);
     ShadingFixture f(job);
     RTCScene scene = f.scene->embree_scene();
-    RTCIntersectContext context;
+    RayQueryContext context;  // its user-geometry callbacks read one
     for (auto _ : state) {
         unsigned hits = 0;
         for (const Tile& tile : f.tiles) {
@@ -107,9 +107,9 @@ void BM_EmbreeIntersect8Raw(benchmark::State& state, const std::string& scene_na
                         packet.ray.time[i] = 0.0f;
                         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
                     }
-                    rtcInitIntersectContext(&context);
-                    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-                    rtcIntersect8(valid, scene, &context, &packet);
+                    rtcInitIntersectContext(&context.embree);
+                    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+                    rtcIntersect8(valid, scene, &context.embree, &packet);
                     for (int i = 0; i < 8; ++i) hits += packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
                 }
             }
@@ -124,8 +124,7 @@ void BM_EmbreeIntersect1Raw(benchmark::State& state, const std::string& scene_na
     const RenderJob& job = course_job(scene_name);
     ShadingFixture f(job);
     RTCScene scene = f.scene->embree_scene();
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+    RayQueryContext context;  // its user-geometry callbacks read one
     for (auto _ : state) {
         unsigned hits = 0;
         for (const Tile& tile : f.tiles)
@@ -141,7 +140,7 @@ void BM_EmbreeIntersect1Raw(benchmark::State& state, const std::string& scene_na
                     rh.ray.flags = 0;
                     rh.ray.time = 0.0f;
                     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                    rtcIntersect1(scene, &context, &rh);
+                    rtcIntersect1(scene, &context.embree, &rh);
                     hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
                 }
         benchmark::DoNotOptimize(hits);

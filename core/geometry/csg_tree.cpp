@@ -1,6 +1,7 @@
 #include "core/geometry/csg_tree.h"
 
 #include "core/geometry/ray.h"
+#include "core/util/cancel_flag.h"
 
 #include <algorithm>
 #include <cmath>
@@ -260,9 +261,10 @@ int CsgTree::finish_node(const FlatCsgObject& object, int flat_index, const std:
     return static_cast<int>(nodes_.size()) - 1;
 }
 
-void CsgTree::evaluate(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& out) const {
+void CsgTree::evaluate(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& out,
+                       const std::atomic<bool>* cancel) const {
     const float pad = 2.0f * epsilon_ / std::max(glm::length(d), 1e-30f);
-    const LineQuery q{o, d, safe_reciprocal(d), tnear - pad, tfar + pad};
+    const LineQuery q{o, d, safe_reciprocal(d), tnear - pad, tfar + pad, cancel};
     out.clear();
     if (!worth_visiting(root_, q)) return;
     evaluate_node(root_, q, out, 0);
@@ -414,8 +416,8 @@ void CsgTree::evaluate_deep(int index, const LineQuery& q, CsgSegmentList& out) 
 }
 
 bool CsgTree::first_boundary(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& list,
-                             CsgBoundary& out) const {
-    evaluate(o, d, tnear, tfar, list);
+                             CsgBoundary& out, const std::atomic<bool>* cancel) const {
+    evaluate(o, d, tnear, tfar, list, cancel);
     if (!csg_first_boundary(list, tnear, tfar, out)) return false;
     const CsgCrossing& surface = *out.surface;
     if (surface.carved && leaves_[static_cast<std::size_t>(surface.leaf)].transparent)
@@ -431,6 +433,7 @@ bool CsgTree::worth_visiting(int index, const LineQuery& q) const {
 
 void CsgTree::leaf_segments(int leaf_index, const LineQuery& q, CsgSegmentList& out) const {
     out.clear();
+    if (is_cancelled(q.cancel)) return;
     const CsgLeaf& leaf = leaves_[static_cast<std::size_t>(leaf_index)];
     if (leaf.is_mesh) {
         // The mesh is traced from where the line enters its box, so that its crossings can be

@@ -11,6 +11,7 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
+#include <atomic>
 #include <functional>
 #include <vector>
 
@@ -53,15 +54,19 @@ public:
 
     /// The interval list of the whole line o + t d (t may be negative). With bounding boxes on,
     /// subtrees (leaves included) whose box the line misses within [tnear, tfar] (padded by
-    /// 2 epsilon) are left out: the list is then exact inside that range only.
-    void evaluate(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& out) const;
+    /// 2 epsilon) are left out: the list is then exact inside that range only. Every leaf reads
+    /// `cancel` (null: none) first and is empty once it is set: the list is then meaningless, and
+    /// the walk that remains only combines empty lists (docs/RELIABILITY.md, "Bounded time").
+    void evaluate(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& out,
+                  const std::atomic<bool>* cancel = nullptr) const;
 
     /// The first boundary of the solid in [tnear, tfar]; `list` receives the interval list
     /// (`out.surface` points into it). A surface carved by a difference's second operand B with a
     /// transparent material has B's material as its inside medium: the path that re-enters the
     /// solid there is tinted by B (docs/SCENE_LANGUAGE.md, "CSG media").
+    /// `cancel` as for evaluate().
     bool first_boundary(const glm::vec3& o, const glm::vec3& d, float tnear, float tfar, CsgSegmentList& list,
-                        CsgBoundary& out) const;
+                        CsgBoundary& out, const std::atomic<bool>* cancel = nullptr) const;
 
     /// Sets the distance below which CSG treats surfaces as touching (relative to the scene).
     void set_epsilon(float epsilon) { epsilon_ = epsilon; }
@@ -91,6 +96,7 @@ private:
     struct LineQuery {
         glm::vec3 o, d, inv_d;
         float range_lo, range_hi;  // box tests only look for overlap with this range of t
+        const std::atomic<bool>* cancel;  // the render's cancel flag, or null
     };
 
     /// Builds the tree nodes of the flat tree under `flat_root` (iteratively); returns the root.

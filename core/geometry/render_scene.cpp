@@ -3,6 +3,7 @@
 #include "core/geometry/render_scene_callbacks.h"
 #include "core/geometry/scene_memory.h"
 #include "core/scene/source_location.h"
+#include "core/util/cancel_flag.h"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -391,32 +392,36 @@ void RenderScene::fill_csg_hit(const RTCRayHit& rh, int lane, SurfaceHit& hit) c
     hit.dpdv = leaf.normal_to_world * dpdv;
 }
 
-bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
-    if (!embree_traceable(ray)) return false;  // only numerical accidents get here: a miss
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+// A query the cancel flag stopped (before it started or while it ran) answers a miss, or blocked:
+// what Embree left in the ray is not an answer (a callback ended it with a negative tfar).
+
+bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit, const std::atomic<bool>* cancel) const {
+    if (is_cancelled(cancel) || !embree_traceable(ray)) return false;  // numerical accidents: a miss
+    RayQueryContext context(cancel);
     RTCRayHit rh;
     rh.ray = to_embree(ray);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, &context, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    rtcIntersect1(scene_, &context.embree, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || is_cancelled(cancel)) return false;
     fill_hit(rh, 0, hit);
     return true;
 }
 
-bool RenderScene::occluded(const Ray& ray) const {
-    if (!embree_traceable(ray)) return true;  // only numerical accidents get here: no light
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+bool RenderScene::occluded(const Ray& ray, const std::atomic<bool>* cancel) const {
+    if (is_cancelled(cancel) || !embree_traceable(ray)) return true;  // numerical accidents: no light
+    RayQueryContext context(cancel);
     RTCRay r = to_embree(ray);
-    rtcOccluded1(scene_, &context, &r);
-    return r.tfar < 0.0f;
+    rtcOccluded1(scene_, &context.embree, &r);
+    return r.tfar < 0.0f || is_cancelled(cancel);
 }
 
-void RenderScene::occluded8(const Ray* rays, const int* valid, bool* blocked) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+void RenderScene::occluded8(const Ray* rays, const int* valid, bool* blocked, const std::atomic<bool>* cancel) const {
+    if (is_cancelled(cancel)) {
+        for (int i = 0; i < 8; ++i) blocked[i] = valid[i] != 0;
+        return;
+    }
+    RayQueryContext context(cancel);
     alignas(32) RTCRay8 packet;
     alignas(32) int mask[8];
     bool untraceable[8];
@@ -433,14 +438,19 @@ void RenderScene::occluded8(const Ray* rays, const int* valid, bool* blocked) co
         packet.time[i] = 0.0f;
         packet.id[i] = static_cast<unsigned>(i);
     }
-    rtcOccluded8(mask, scene_, &context, &packet);
-    for (int i = 0; i < 8; ++i) blocked[i] = untraceable[i] || (valid[i] && packet.tfar[i] < 0.0f);
+    rtcOccluded8(mask, scene_, &context.embree, &packet);
+    const bool stopped = is_cancelled(cancel);
+    for (int i = 0; i < 8; ++i) blocked[i] = valid[i] && (untraceable[i] || stopped || packet.tfar[i] < 0.0f);
 }
 
-void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found,
+                             const std::atomic<bool>* cancel) const {
+    if (is_cancelled(cancel)) {
+        for (int i = 0; i < 8; ++i) found[i] = false;
+        return;
+    }
+    RayQueryContext context(cancel);
+    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(32) RTCRayHit8 packet;
     alignas(32) int mask[8];
     for (int i = 0; i < 8; ++i) {
@@ -457,9 +467,10 @@ void RenderScene::intersect8(const Ray* rays, const int* valid, SurfaceHit* hits
         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect8(mask, scene_, &context, &packet);
+    rtcIntersect8(mask, scene_, &context.embree, &packet);
+    const bool stopped = is_cancelled(cancel);
     for (int i = 0; i < 8; ++i) {
-        found[i] = mask[i] && packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        found[i] = !stopped && mask[i] && packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
         if (!found[i]) continue;
         RTCRayHit one;
         one.ray.org_x = packet.ray.org_x[i], one.ray.org_y = packet.ray.org_y[i], one.ray.org_z = packet.ray.org_z[i];

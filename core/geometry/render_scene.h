@@ -22,6 +22,18 @@ namespace caustica {
 /// Thrown by RenderScene's constructor when its cancel flag stopped the build.
 struct SceneBuildCancelled {};
 
+/// Embree's query context with the flag that stops the query. Every query on a RenderScene's
+/// Embree scene passes one (embree_scene() included): its user-geometry callbacks read the flag
+/// through the context Embree hands them.
+struct RayQueryContext {
+    RTCIntersectContext embree;                 ///< first member: the pointer Embree is given
+    const std::atomic<bool>* cancel = nullptr;  ///< null: the query always runs to its end
+
+    explicit RayQueryContext(const std::atomic<bool>* cancel_flag = nullptr) : cancel(cancel_flag) {
+        rtcInitIntersectContext(&embree);
+    }
+};
+
 /// Immutable after build; safe to trace from any number of threads.
 class RenderScene {
 public:
@@ -32,17 +44,24 @@ public:
     RenderScene(const RenderScene&) = delete;
     RenderScene& operator=(const RenderScene&) = delete;
 
+    // Each query takes the render's cancel flag (docs/RELIABILITY.md, "Bounded time"). Once it
+    // reads true the query answers a miss (occlusion: blocked), an answer the caller throws away:
+    // a query that starts then traces nothing, one under way stops at the next analytic primitive
+    // or CSG leaf it tests (Embree's walk through mesh triangles runs to its end). Null (picking,
+    // tests): the query always runs to its end.
+
     /// Nearest hit along the ray within [tmin, tmax].
-    bool intersect(const Ray& ray, SurfaceHit& hit) const;
+    bool intersect(const Ray& ray, SurfaceHit& hit, const std::atomic<bool>* cancel = nullptr) const;
 
     /// Whether anything blocks the ray within [tmin, tmax].
-    bool occluded(const Ray& ray) const;
+    bool occluded(const Ray& ray, const std::atomic<bool>* cancel = nullptr) const;
 
     /// Occlusion of up to 8 rays as one packet; `valid[i]` selects lanes, `blocked[i]` the answers.
-    void occluded8(const Ray* rays, const int* valid, bool* blocked) const;
+    void occluded8(const Ray* rays, const int* valid, bool* blocked, const std::atomic<bool>* cancel = nullptr) const;
 
     /// Traces up to 8 rays as one packet (primary rays); `valid[i]` selects lanes.
-    void intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found) const;
+    void intersect8(const Ray* rays, const int* valid, SurfaceHit* hits, bool* found,
+                    const std::atomic<bool>* cancel = nullptr) const;
 
     const std::vector<Material>& materials() const { return materials_; }
     /// World bounds of everything finite in the scene.
@@ -54,7 +73,7 @@ public:
     /// The CSG objects, in the order of FlatScene::csg_objects (empty ones left out).
     const std::vector<CsgTree>& csg_objects() const { return csg_; }
 
-    /// The raw Embree scene, for benchmarks that compare against it.
+    /// The raw Embree scene, for benchmarks that compare against it (queried with a RayQueryContext).
     RTCScene embree_scene() const { return scene_; }
 
     /// Per-analytic-primitive data the Embree callbacks read.

@@ -1,5 +1,7 @@
 #include "core/geometry/render_scene_callbacks.h"
 
+#include "core/util/cancel_flag.h"
+
 #include <cmath>
 
 namespace caustica::user_geometry {
@@ -28,6 +30,25 @@ const SurfaceCrossing* nearest_crossing(const RenderScene::AnalyticPrimitive& pr
     return nullptr;
 }
 
+/// The cancel flag of the query a callback serves: every RenderScene query passes a RayQueryContext.
+const std::atomic<bool>* query_cancel(const RTCIntersectContext* context) {
+    return reinterpret_cast<const RayQueryContext*>(context)->cancel;
+}
+
+/// Ends ray i of a cancelled query: with a negative tfar Embree skips everything the ray has left
+/// to visit (for occlusion it also means blocked); RenderScene reports the query as stopped.
+void end_cancelled_ray(RTCRayN* ray, unsigned n, unsigned i) { RTCRayN_tfar(ray, n, i) = -ray_infinity; }
+
+/// The first boundary of `tree` along ray i of a query; false once the query is cancelled (the
+/// tree reads the flag at every leaf, and after it its list is not the solid's).
+bool boundary_along_ray(const CsgTree& tree, RTCRayN* ray, unsigned n, unsigned i, const std::atomic<bool>* cancel,
+                        CsgSegmentList& list, CsgBoundary& boundary) {
+    if (is_cancelled(cancel)) return false;
+    const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
+    const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
+    return tree.first_boundary(o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), list, boundary, cancel);
+}
+
 /// One record per ray of a packet and per thread: the CSG intersect callback writes it for each
 /// hit it accepts (so the last write is the final hit's), and fill_hit reads it right after the
 /// query on the same thread (Embree runs a query's callbacks on the thread that asked).
@@ -47,6 +68,7 @@ void analytic_bounds(const RTCBoundsFunctionArguments* args) {
 
 void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
     const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
+    const std::atomic<bool>* cancel = query_cancel(args->context);
     const unsigned n = args->N;
     RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
     RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
@@ -54,6 +76,10 @@ void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
       for (unsigned p = geometry->first(args->primID); p < geometry->last(args->primID); ++p) {
         const RenderScene::AnalyticPrimitive& prim = geometry->prims[p];
         if (args->valid[i] != -1) continue;
+        if (is_cancelled(cancel)) {
+            end_cancelled_ray(ray, n, i);
+            break;
+        }
         const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
         const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
         ShapeInterval interval;
@@ -77,11 +103,16 @@ void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
 
 void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
     const auto* geometry = static_cast<const AnalyticGeometry*>(args->geometryUserPtr);
+    const std::atomic<bool>* cancel = query_cancel(args->context);
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i)
       for (unsigned p = geometry->first(args->primID); p < geometry->last(args->primID); ++p) {
         const RenderScene::AnalyticPrimitive& prim = geometry->prims[p];
         if (args->valid[i] != -1 || RTCRayN_tfar(args->ray, n, i) < 0.0f) continue;
+        if (is_cancelled(cancel)) {
+            end_cancelled_ray(args->ray, n, i);
+            break;
+        }
         const glm::vec3 o(RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
                           RTCRayN_org_z(args->ray, n, i));
         const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
@@ -106,16 +137,20 @@ void csg_bounds(const RTCBoundsFunctionArguments* args) {
 void csg_intersect(const RTCIntersectFunctionNArguments* args) {
     const auto* geometry = static_cast<const CsgGeometry*>(args->geometryUserPtr);
     const CsgTree& tree = geometry->trees[args->primID];
+    const std::atomic<bool>* cancel = query_cancel(args->context);
     const unsigned n = args->N;
     RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
     RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
     for (unsigned i = 0; i < n; ++i) {
         if (args->valid[i] != -1) continue;
-        const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
-        const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
         CsgSegmentList list;
         CsgBoundary boundary;
-        if (!tree.first_boundary(o, d, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), list, boundary)) continue;
+        const bool met = boundary_along_ray(tree, ray, n, i, cancel, list, boundary);
+        if (is_cancelled(cancel)) {
+            end_cancelled_ray(ray, n, i);
+            continue;
+        }
+        if (!met) continue;
         const CsgCrossing& surface = *boundary.surface;
         const glm::vec3 normal = tree.leaf(surface.leaf).normal_to_world * surface.normal;
         if (!std::isfinite(surface.t) || !finite_normal(normal)) continue;  // see nearest_crossing
@@ -137,18 +172,15 @@ void csg_intersect(const RTCIntersectFunctionNArguments* args) {
 void csg_occluded(const RTCOccludedFunctionNArguments* args) {
     const auto* geometry = static_cast<const CsgGeometry*>(args->geometryUserPtr);
     const CsgTree& tree = geometry->trees[args->primID];
+    const std::atomic<bool>* cancel = query_cancel(args->context);
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
         if (args->valid[i] != -1) continue;
-        const glm::vec3 o(RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
-                          RTCRayN_org_z(args->ray, n, i));
-        const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
-                          RTCRayN_dir_z(args->ray, n, i));
         CsgSegmentList list;
         CsgBoundary boundary;
-        if (tree.first_boundary(o, d, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), list, boundary) &&
-            std::isfinite(boundary.surface->t))
-            RTCRayN_tfar(args->ray, n, i) = -ray_infinity;
+        const bool met = boundary_along_ray(tree, args->ray, n, i, cancel, list, boundary);
+        if (is_cancelled(cancel) || (met && std::isfinite(boundary.surface->t)))
+            RTCRayN_tfar(args->ray, n, i) = -ray_infinity;  // blocked, or the query was cancelled
     }
 }
 

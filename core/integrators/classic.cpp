@@ -41,7 +41,7 @@ float ClassicIntegrator::light_visibility(const Light& light, const glm::vec3& p
     const int n = setup_.shadow_grid;
     if (light.radius <= 0.0f || !setup_.soft_shadows || n <= 1 || distance <= light.radius) {
         ++counters.shadow;
-        return setup_.scene->occluded(Ray{point, w, eps, distance - eps}) ? 0.0f : 1.0f;
+        return setup_.scene->occluded(Ray{point, w, eps, distance - eps}, setup_.cancel) ? 0.0f : 1.0f;
     }
     // "soft shadows": a regular grid of directions over the square [-sin theta, sin theta]^2 around
     // w, no jitter; u is horizontal (w x z), v = w x u.
@@ -60,7 +60,7 @@ float ClassicIntegrator::light_visibility(const Light& light, const glm::vec3& p
             const glm::vec3 direction = du * u + dv * v + std::sqrt(1.0f - s) * w;
             ++counted;
             ++counters.shadow;
-            visible += !setup_.scene->occluded(Ray{point, direction, eps, distance - eps});
+            visible += !setup_.scene->occluded(Ray{point, direction, eps, distance - eps}, setup_.cancel);
         }
     }
     return counted > 0 ? static_cast<float>(visible) / static_cast<float>(counted) : 1.0f;
@@ -86,7 +86,8 @@ glm::vec3 ClassicIntegrator::photon_dot(const PhotonMap* map, const glm::vec3& p
 ClassicIntegrator::Traced ClassicIntegrator::trace(const Ray& ray, int depth, float weight,
                                                    RayCounters& counters) const {
     SurfaceHit hit;
-    if (!setup_.scene->intersect(ray, hit)) return {background_colour(setup_, ray.direction), ray_infinity};
+    if (!setup_.scene->intersect(ray, hit, setup_.cancel))
+        return {background_colour(setup_, ray.direction), ray_infinity};
     if (depth > max_depth) return {glm::vec3(1.0f), hit.t};  // "deep rays": trapped light returns white
     return {shade(ray, hit, depth, weight, nullptr, counters), hit.t};
 }

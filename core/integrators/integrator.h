@@ -15,6 +15,7 @@
 #include "core/shading/material.h"
 #include "core/shading/texture.h"
 
+#include <atomic>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -27,6 +28,9 @@ namespace caustica {
 /// options by its registry entry.
 struct ShadingSetup {
     const RenderScene* scene = nullptr;
+    /// The render's cancel flag, passed to every ray query (null: none). Once it is set the
+    /// queries answer misses and the colours are meaningless: the tile renderer throws them away.
+    const std::atomic<bool>* cancel = nullptr;
     const TextureSet* textures = nullptr;  ///< may be null: no textures
     std::vector<Light> lights;
     glm::vec3 ambient{0.0f};

@@ -61,7 +61,7 @@ float ProgressiveIntegrator::medium_index(int material) const {
 glm::vec3 ProgressiveIntegrator::trace(const Ray& ray, const PathState& path, RandomStream& random,
                             RayCounters& counters) const {
     SurfaceHit hit;
-    const bool found = setup_.scene->intersect(ray, hit);
+    const bool found = setup_.scene->intersect(ray, hit, setup_.cancel);
     // Light travelling inside a coloured medium is attenuated with the distance.
     glm::vec3 transmittance(1.0f);
     if (const int medium = path.media.top(); medium >= 0) {
@@ -80,7 +80,8 @@ float ProgressiveIntegrator::light_visibility(const Light& light, const glm::vec
     const float distance = glm::length(to_centre);
     if (light.radius <= 0.0f || !setup_.soft_shadows || distance <= light.radius) {
         ++counters.shadow;
-        return setup_.scene->occluded(Ray{point, to_centre / distance, eps, distance - eps}) ? 0.0f : 1.0f;
+        const Ray shadow{point, to_centre / distance, eps, distance - eps};
+        return setup_.scene->occluded(shadow, setup_.cancel) ? 0.0f : 1.0f;
     }
     // Stratified samples over the light's disc as seen from the point.
     const glm::vec3 w = to_centre / distance;
@@ -101,7 +102,7 @@ float ProgressiveIntegrator::light_visibility(const Light& light, const glm::vec
                 continue;
             }
             ++counters.shadow;
-            visible += !setup_.scene->occluded(Ray{point, d / length, eps, length - eps});
+            visible += !setup_.scene->occluded(Ray{point, d / length, eps, length - eps}, setup_.cancel);
         }
     }
     return static_cast<float>(visible) / static_cast<float>(n * n);

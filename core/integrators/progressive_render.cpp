@@ -6,6 +6,7 @@
 #include "core/scene/camera.h"
 #include "core/render/random.h"
 #include "core/render/render_session.h"
+#include "core/util/cancel_flag.h"
 
 #include <algorithm>
 #include <chrono>
@@ -44,7 +45,7 @@ long long photon_directions(const CausticStage& stage) {
 
 /// The first gather radius most pixels will use: --accumulation-radius pixel footprints at the
 /// median distance pixel-centre rays of a 16 x 16 grid travel to the scene, at most the maximum
-/// distance (the grid's cell size before any gather has told).
+/// distance (the grid's cell size before any gather has told). Meaningless once setup.cancel is set.
 double typical_first_radius(const RenderScene& scene, const Camera& camera, const RenderJob& job,
                             const ShadingSetup& setup) {
     std::vector<float> distances;
@@ -54,7 +55,7 @@ double typical_first_radius(const RenderScene& scene, const Camera& camera, cons
             SurfaceHit hit;
             const Ray ray = camera.generate((i + 0.5f) * static_cast<float>(job.width) / samples,
                                             (j + 0.5f) * static_cast<float>(job.height) / samples);
-            if (scene.intersect(ray, hit)) distances.push_back(hit.t);
+            if (scene.intersect(ray, hit, setup.cancel)) distances.push_back(hit.t);
         }
     const double max_distance = static_cast<float>(job.options.effective_caustic_max_dist());
     if (distances.empty()) return max_distance;
@@ -87,7 +88,8 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
     const double step_x = 0.7548776662466927, step_y = 0.5698402909980532;
     const int group = pass % replicate_groups;
     const double step = static_cast<double>(pass / replicate_groups);
-    for (int y = tile.y0; y < tile.y1; ++y) {
+    bool cut_short = false;  // by a cancel: the packet traced then adds nothing
+    for (int y = tile.y0; y < tile.y1 && !cut_short; ++y) {
         for (int x = tile.x0; x < tile.x1; x += 8) {
             Ray rays[8];
             int valid[8];
@@ -110,6 +112,8 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
             double photon[8], inner[8];
             integrator.trace_samples8(rays, valid, streams, radius_factors ? scales : nullptr, colour, photon, inner,
                                       counters);
+            cut_short = is_cancelled(context.cancel);
+            if (cut_short) break;
             for (int i = 0; i < 8 && valid[i]; ++i) {
                 PassSample sample;
                 sample.colour = colour[i];
@@ -254,8 +258,12 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     };
     // The grid's cells are made for the radius most gathers use (a function of the scene and the
     // pass alone: every rank sorts a pass's photons into the same cells, so sums are the same bits).
-    if (has_photons && acc.typical_radius <= 0.0)
-        acc.typical_radius = typical_first_radius(host.scene(), *context.camera, job, setup);
+    // One measured while cancelled is not the scene's: alone, the loop below stops at once and a
+    // resume measures it again; with other ranks, the round's checkpoint stops every rank.
+    if (has_photons && acc.typical_radius <= 0.0) {
+        const double radius = typical_first_radius(host.scene(), *context.camera, job, setup);
+        if (shared || !cancel) acc.typical_radius = radius;
+    }
     double last_round_seconds = 0.0, radius_log_before = 0.0, grid_seconds = 0.0;
     std::uint64_t radius_samples_before = 0;
     int next_error_check = 0;  // shared: the round whose end estimates the error (with --target-error)

@@ -65,7 +65,8 @@ private:
 /// One progressive pass (0-based `pass`) over a tile: a sample per pixel, deterministic per (pixel,
 /// pass), traced 8 pixels to a packet, added to the accumulator with its photon probes; the
 /// pixel's mean goes to `out`. `radius_factors` (per pixel, or null: all 1) multiply the r^2 of
-/// each pixel's gathers.
+/// each pixel's gathers. Once context.cancel is set the tile stops, the packet traced then adding
+/// nothing: the pixels it reached keep this pass's sample, the others do not have it.
 void render_accumulation_tile(const ProgressiveIntegrator& integrator, const TileContext& context, const Tile& tile,
                               int pass, const float* radius_factors, ProgressiveAccumulator& accumulator, Image& out,
                               RayCounters& counters);

@@ -74,7 +74,7 @@ void primary_visibility8(const ShadingSetup& setup, const Ray* rays, const Surfa
             ++count;
         }
         if (count == 0) continue;
-        setup.scene->occluded8(shadow, valid, blocked);
+        setup.scene->occluded8(shadow, valid, blocked, setup.cancel);
         counters.shadow += static_cast<std::uint64_t>(count);
         for (int lane = 0; lane < 8; ++lane)
             if (valid[lane]) visibility[lane][l] = blocked[lane] ? 0.0f : 1.0f;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/integrators/integrator.h"
+#include "core/util/cancel_flag.h"
 
 namespace caustica {
 
@@ -41,18 +42,22 @@ void primary_visibility8(const ShadingSetup& setup, const Ray* rays, const Surfa
 /// The packet path of both integrators: intersects up to 8 camera rays, traces their point-light
 /// shadow rays as packets (primary_visibility8 with `flip_normals`, `grid1_is_point`), and
 /// writes shade(i, hit, visibility) for lanes that hit something, the background for the rest.
+/// Once the cancel flag is set the lanes not yet shaded get the background: a lane's shading may
+/// gather photons, so a cancelled packet waits for one lane at most (docs/RELIABILITY.md,
+/// "Bounded time"); the packet is thrown away.
 template <typename Shade>
 void trace_packet8(const ShadingSetup& setup, const Ray* rays, const int* valid, bool flip_normals, bool grid1_is_point,
                    glm::vec3* out, RayCounters& counters, Shade&& shade) {
     SurfaceHit hits[8];
     bool found[8];
-    setup.scene->intersect8(rays, valid, hits, found);
+    setup.scene->intersect8(rays, valid, hits, found, setup.cancel);
     float visibility[8][packet_lights];
     primary_visibility8(setup, rays, hits, found, flip_normals, grid1_is_point, visibility, counters);
     for (int i = 0; i < 8; ++i) {
         if (!valid[i]) continue;
         ++counters.primary;
-        out[i] = found[i] ? shade(i, hits[i], visibility[i]) : background_colour(setup, rays[i].direction);
+        const bool shaded = found[i] && !is_cancelled(setup.cancel);
+        out[i] = shaded ? shade(i, hits[i], visibility[i]) : background_colour(setup, rays[i].direction);
     }
 }
 

@@ -141,10 +141,11 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
             stage.warnings.push_back(job.scene->lights[job.lights[l]].where.str() + ": gr.light: " + r.warning);
         stage.light_positions.push_back(lights[l].position);
     }
-    stage.projection_maps = std::move(pass.maps);
     stage.sequence_seed = settings.sequence_seed;
     const auto t0 = std::chrono::steady_clock::now();
-    if (cancel && cancel->load()) return;  // a cancelled pass is thrown away: no tree for it
+    // A cancelled pass is thrown away: no tree, and no maps (one may have been cut short).
+    if (cancel && cancel->load()) return;
+    stage.projection_maps = std::move(pass.maps);
     if (extras.photons_only)
         stage.photons = std::move(pass.photons);
     else if (settings.photons_per_light > 0)
@@ -329,8 +330,9 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
             stage.warnings.push_back(job.scene->lights[job.lights[l]].where.str() + ": gr.light: " + warning);
         stage.light_positions.push_back(lights[l].position);
     }
+    // A cancelled pass is thrown away: no trees, and no maps (one may have been cut short).
+    if (cancel && cancel->load()) return;
     stage.projection_maps = std::move(pass.maps);
-    if (cancel && cancel->load()) return;  // a cancelled pass is thrown away: no trees for it
     // A GI photon may be stored at every hit of its path: check what was stored before the trees
     // double it.
     const double stored = static_cast<double>(pass.caustic.size() + pass.gi.size());

@@ -3,6 +3,7 @@
 #include "core/shading/classic_interface.h"
 #include "core/shading/optics.h"
 #include "core/shading/texture.h"
+#include "core/util/cancel_flag.h"
 #include "core/util/denormals.h"
 #include "core/util/radiance_range.h"
 #include "core/util/parallel.h"
@@ -253,6 +254,8 @@ void shoot_light(const RenderScene& scene, const TextureSet* textures, const Lig
                 const double h = std::fabs(glm::dot(glm::normalize(glm::cross(b - a, c - a)), a));
                 const double min_radius = cell_min_radius(a, b, c, h);
                 for (long long j = 0; j < count; ++j) {
+                    // A block's cells may hold any share of the photons: the flag is read within them.
+                    if (j % steps_between_cancel_checks == 0 && is_cancelled(cancel)) return;
                     RandomStream random(seed, photon_key(kind, l, cell, j), 5);
                     const glm::vec3 direction = direction_in_cell(a, b, c, min_radius, random);
                     if (map) {  // the map's cells by u = (1 - cos theta) / 2 and phi / 2 pi
@@ -263,7 +266,7 @@ void shoot_light(const RenderScene& scene, const TextureSet* textures, const Lig
                     }
                     ++traced[block];
                     trace_classic_photon(scene, textures, kind, Ray{light.position, direction, 0.0f, ray_infinity},
-                                         energy, random, stored[block]);
+                                         energy, random, stored[block], cancel);
                 }
             };
             visit_block(block, visit);
@@ -324,14 +327,15 @@ bool classic_projection_target(const Material& m) {
 }
 
 int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, ClassicMapKind kind, Ray ray,
-                         glm::vec3 power, RandomStream& random, std::vector<Photon>& out) {
+                         glm::vec3 power, RandomStream& random, std::vector<Photon>& out,
+                         const std::atomic<bool>* cancel) {
     const auto& materials = scene.materials();
     const float eps = scene.epsilon();
     bool after_specular = false, after_diffuse = false;
     int hits = 0;
     while (hits < classic_max_hits) {
         SurfaceHit hit;
-        if (!scene.intersect(ray, hit)) break;
+        if (!scene.intersect(ray, hit, cancel)) break;
         ++hits;  // every surface counts, gr.air() ones included
         // The odds, the power and what is stored all come from the material entered, as for view
         // rays.
@@ -404,7 +408,7 @@ ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const Textur
             // The original always used its maps; they cost one ray per cell (64 800 at the default
             // granularity) against the million photons the cells need to shoot any.
             ProjectionMap built(settings.projection_map_granularity);
-            built.build(scene, light.position, classic_projection_target);
+            built.build(scene, light.position, classic_projection_target, cancel);
             caustic.occupied_fraction = built.occupied_fraction();
             caustic.projection_map_used = true;
             result.maps[l] = std::move(built);

@@ -117,15 +117,19 @@ bool classic_projection_target(const Material& m);
 
 /// Traces one photon of `kind` from `ray` with `power` by the classic photon rules and appends what
 /// it stores to `out`. `textures` (may be null) gives kd(uv). Returns the hits it made (at most
-/// classic_max_hits, gr.air() surfaces included: they are dielectric interfaces).
+/// classic_max_hits, gr.air() surfaces included: they are dielectric interfaces). Once `cancel`
+/// (null: none) is set its rays meet nothing: the photon ends at once.
 int trace_classic_photon(const RenderScene& scene, const TextureSet* textures, ClassicMapKind kind, Ray ray,
-                         glm::vec3 power, RandomStream& random, std::vector<Photon>& out);
+                         glm::vec3 power, RandomStream& random, std::vector<Photon>& out,
+                         const std::atomic<bool>* cancel = nullptr);
 
 /// Shoots the caustic and (when settings.gi_photons > 0) GI photons of every light in parallel.
 /// A light without quadratic falloff gets none, with a warning (as photon_energy needs c2 > 0).
 /// Each photon has its own random stream keyed by (seed, map, light, cell, photon in the cell), so
-/// the result is the same for any thread count. Stops early when `cancel` becomes true. Throws
-/// InputError, before shooting, when the photons could not fit in memory.
+/// the result is the same for any thread count. Stops early when `cancel` becomes true (docs/
+/// RELIABILITY.md, "Bounded time"): what it returns then, photons and projection maps, is
+/// incomplete and to be thrown away. Throws InputError, before shooting, when the photons could
+/// not fit in memory.
 ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const TextureSet* textures,
                                           const std::vector<Light>& lights, const ClassicPhotonSettings& settings,
                                           const std::atomic<bool>* cancel);

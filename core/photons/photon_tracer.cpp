@@ -1,5 +1,6 @@
 #include "core/photons/photon_tracer.h"
 
+#include "core/util/cancel_flag.h"
 #include "core/util/denormals.h"
 #include "core/shading/medium_stack.h"
 #include "core/shading/optics.h"
@@ -88,9 +89,11 @@ Interface interface_at(const std::vector<Material>& materials, const SurfaceHit&
 }
 
 /// Traces one photon (and, when `split`, every branch it splits into at mirrors and dielectrics);
-/// appends to `out` each time it reaches a diffuse surface after a specular bounce.
+/// appends to `out` each time it reaches a diffuse surface after a specular bounce. Once `cancel`
+/// is set its rays meet nothing: the photon ends at once.
 void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_depth, float unit_distance,
-                  bool global_illumination, bool split, RandomStream& random, std::vector<Photon>& out) {
+                  bool global_illumination, bool split, RandomStream& random, std::vector<Photon>& out,
+                  const std::atomic<bool>* cancel) {
     const auto& materials = scene.materials();
     const float eps = scene.epsilon();
     // Roulette ends GI paths; the cap only stops pathological ones (albedo 0.9: 0.9^64 = 1e-3 left).
@@ -105,7 +108,7 @@ void trace_photon(const RenderScene& scene, Ray ray, glm::vec3 power, int max_de
         // Follows branch b until it ends, then the next one waiting.
         bool ended = b.depth > depth_limit;
         SurfaceHit hit;
-        if (!ended && !scene.intersect(b.ray, hit)) ended = true;
+        if (!ended && !scene.intersect(b.ray, hit, cancel)) ended = true;
         if (ended) {
             if (pending.empty()) return;
             b = pending.back();
@@ -272,13 +275,13 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         }
         if (try_map && automatic) {
             ProjectionMap coarse(std::max(8, settings.projection_map_granularity / 4));
-            coarse.build(scene, light.position);
+            coarse.build(scene, light.position, nullptr, cancel);
             report.occupied_fraction = coarse.occupied_fraction();
             try_map = report.occupied_fraction < 0.9;
         }
         if (try_map) {
             ProjectionMap map(settings.projection_map_granularity);
-            map.build(scene, light.position);
+            map.build(scene, light.position, nullptr, cancel);
             report.occupied_fraction = map.occupied_fraction();
             report.projection_map_used = !automatic || report.occupied_fraction < 0.9;
             result.maps[l] = std::move(map);
@@ -302,7 +305,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
             }
             trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, energy, settings.max_depth,
                          static_cast<float>(settings.unit_distance), settings.global_illumination, settings.split, random,
-                         out);
+                         out, cancel);
         };
         if (map) {
             // Directions are drawn inside the map's occupied cells only: each cell gets its share
@@ -348,6 +351,8 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                                 static_cast<long long>(static_cast<double>(count) * cells[c].share / occupied.fraction()),
                                 std::memory_order_relaxed);
                         for (long long j = 0; j < n; ++j) {
+                            // A cell may hold any share of the count: the flag is read within it.
+                            if (j % steps_between_cancel_checks == 0 && is_cancelled(cancel)) return;
                             RandomStream random(settings.seed,
                                                 (static_cast<std::uint64_t>(l) << 56) ^ (static_cast<std::uint64_t>(c) << 24) ^
                                                     static_cast<std::uint64_t>(j),

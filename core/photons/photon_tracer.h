@@ -90,8 +90,9 @@ void check_photon_memory(double photons, long long requested, double budget_byte
 
 /// Shoots the caustic photons of every light in parallel. Each photon has its own random stream
 /// keyed by (seed, light, photon index), so the result is the same for any thread count.
-/// Stops early (returning what it has) when `cancel` becomes true. Throws InputError, before
-/// shooting, when the photons the maps let through could not fit in memory.
+/// Stops early when `cancel` becomes true (docs/RELIABILITY.md, "Bounded time"): what it returns
+/// then, photons and projection maps, is incomplete and to be thrown away. Throws InputError,
+/// before shooting, when the photons the maps let through could not fit in memory.
 PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vector<Light>& lights,
                                        const PhotonPassSettings& settings, const std::atomic<bool>* cancel);
 

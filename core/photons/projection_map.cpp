@@ -1,5 +1,6 @@
 #include "core/photons/projection_map.h"
 
+#include "core/util/cancel_flag.h"
 #include "core/util/denormals.h"
 #include "core/util/parallel.h"
 
@@ -42,19 +43,22 @@ double ProjectionMap::cell_solid_angle(int row) const {
     return (2.0 * pi / columns_) * (std::cos(theta0) - std::cos(theta1));
 }
 
-void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light, bool (*target)(const Material&)) {
+void ProjectionMap::build(const RenderScene& scene, const glm::vec3& light, bool (*target)(const Material&),
+                          const std::atomic<bool>* cancel) {
     std::vector<std::uint8_t> hits(cells_.size(), 0);
     const auto& materials = scene.materials();
     caustica::parallel_for(tbb::blocked_range<int>(0, rows_), [&](const tbb::blocked_range<int>& range) {
         const ScopedFlushDenormals flush;
-        for (int row = range.begin(); row != range.end(); ++row)
+        for (int row = range.begin(); row != range.end(); ++row) {
+            if (is_cancelled(cancel)) return;
             for (int column = 0; column < columns_; ++column) {
                 SurfaceHit hit;
-                if (!scene.intersect(Ray{light, cell_centre(row, column), 0.0f, ray_infinity}, hit)) continue;
+                if (!scene.intersect(Ray{light, cell_centre(row, column), 0.0f, ray_infinity}, hit, cancel)) continue;
                 const Material& m = materials[hit.material];
                 const bool is_target = target ? target(m) : (m.reflective || m.transparent);
                 if (is_target) hits[static_cast<std::size_t>(row) * columns_ + column] = 1;
             }
+        }
     });
     // Set the neighbours too, so that objects between sample directions are not missed.
     for (int row = 0; row < rows_; ++row)

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -22,7 +23,9 @@ public:
     /// Shoots one ray per cell centre from `light`; sets cells whose first hit is a target, and
     /// their eight neighbours. Runs in parallel. Targets: reflective or transparent surfaces, or
     /// the materials `target` accepts when given (the classic rule, classic_projection_target).
-    void build(const RenderScene& scene, const glm::vec3& light, bool (*target)(const Material&) = nullptr);
+    /// Stops between rows once `cancel` (null: none) is set: the map is then incomplete.
+    void build(const RenderScene& scene, const glm::vec3& light, bool (*target)(const Material&) = nullptr,
+               const std::atomic<bool>* cancel = nullptr);
 
     /// Whether the cell containing a unit direction is set.
     bool occupied(const glm::vec3& direction) const { return cells_[cell_of(direction)] != 0; }

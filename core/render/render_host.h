@@ -52,7 +52,8 @@ public:
     virtual Image& image() = 0;
     virtual const std::vector<Tile>& tiles() const = 0;
     /// Runs `body` on every tile on the session's threads, each under its tile's lock and then
-    /// published (a viewer never sees a tile half-written); stops handing out tiles on cancel.
+    /// published (a viewer never sees a tile half-written); stops handing out tiles on cancel, and
+    /// publishes none that ends after it (TileContext::cancel: it may have stopped half-way).
     /// `stage` names what -t reports and the progress shows; `pass` is the progress's pass number.
     virtual void run_tiles(const char* stage, int pass, const TileBody& body) = 0;
     /// Writes every tile with `fill` under its lock and publishes it (no threads).

@@ -289,6 +289,7 @@ ShadingSetup RenderSession::make_setup() const {
     const int width = job_.width, height = job_.height;
     ShadingSetup setup;
     setup.scene = scene_.get();
+    setup.cancel = &cancel_requested_;
     setup.lights = job_lights(job_);
     setup.ambient = glm::vec3(job_.ambient);
     setup.miss_colour = glm::vec3(job_.miss_colour);
@@ -362,10 +363,12 @@ private:
 
 namespace {
 
-TileContext make_context(const Options& options, const Camera& camera, const Integrator& integrator) {
+TileContext make_context(const Options& options, const Camera& camera, const Integrator& integrator,
+                         const std::atomic<bool>& cancel) {
     TileContext context;
     context.integrator = &integrator;
     context.camera = &camera;
+    context.cancel = &cancel;
     context.seed = options.reproducible ? static_cast<std::uint64_t>(options.seed)
                                         : (static_cast<std::uint64_t>(options.seed) ^ std::random_device{}());
     context.aa_grid = options.disable_aa ? 1 : options.aa_grid;
@@ -380,7 +383,7 @@ void RenderSession::render_direct_preview(tbb::task_arena& arena) {
     const Camera camera(job_.camera, job_.width, job_.height);
     const ShadingSetup setup = make_setup();  // no photon map yet: direct light only
     const std::unique_ptr<Integrator> integrator = make_integrator(job_.options.integrator, setup, job_.options);
-    const TileContext context = make_context(job_.options, camera, *integrator);
+    const TileContext context = make_context(job_.options, camera, *integrator, cancel_requested_);
     {
         std::lock_guard lock(mutex_);
         progress_.passes = 1;
@@ -404,7 +407,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
             if (!caustics_->projection_maps[l].empty())
                 setup.projection_maps.emplace_back(&caustics_->projection_maps[l], caustics_->light_positions[l]);
     const std::unique_ptr<Integrator> integrator = make_integrator(options.integrator, setup, options);
-    TileContext context = make_context(options, camera, *integrator);
+    TileContext context = make_context(options, camera, *integrator, cancel_requested_);
     PassRunner runner{*this, arena, {}};
 
     if (options.accumulates() && loop_) {

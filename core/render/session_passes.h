@@ -43,6 +43,7 @@ struct RenderSession::PassRunner {
                                       {
                                           std::lock_guard tile_lock(session.tile_mutexes_[i]);
                                           body(i, tiles[i], counters.local());
+                                          if (cut_short()) return;
                                           session.tile_versions_[i].store(++session.version_counter_,
                                                                           std::memory_order_release);
                                       }
@@ -67,11 +68,17 @@ struct RenderSession::PassRunner {
                     const std::size_t t = static_cast<std::size_t>(i);
                     std::lock_guard tile_lock(session.tile_mutexes_[t]);
                     body(t, tiles[t], counters.local());
+                    if (cut_short()) return;
                     session.tile_versions_[t].store(++session.version_counter_, std::memory_order_release);
                 }
             });
         });
     }
+
+    /// Whether the tile body that just returned on this thread may have been cut short by a cancel
+    /// (it stops between packets: TileContext::cancel). Such a tile is neither published nor
+    /// counted: a viewer keeps the copy it has (docs/RELIABILITY.md, "Bounded time").
+    bool cut_short() const { return session.cancel_requested_.load(std::memory_order_relaxed); }
 
     RayCounters total() const {
         RayCounters t;

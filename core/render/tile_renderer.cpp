@@ -1,6 +1,7 @@
 #include "core/render/tile_renderer.h"
 
 #include "core/render/random.h"
+#include "core/util/cancel_flag.h"
 
 #include <algorithm>
 #include <cmath>
@@ -36,6 +37,7 @@ void render_coarse_tile(const TileContext& context, const Tile& tile, int block,
             const glm::vec3 c = context.integrator->trace_camera_ray(
                 context.camera->generate(0.5f * static_cast<float>(x + x1), 0.5f * static_cast<float>(y + y1)), random,
                 counters);
+            if (is_cancelled(context.cancel)) return;
             ++counters.samples;
             check_pixel(c, x, y);
             for (int yy = y; yy < y1; ++yy)
@@ -88,6 +90,7 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
             if (!corners) {
                 glm::vec3 c[8];
                 trace_row8(context, x, tile.x1, y, 0.5f, 0.5f, 0, out.width, c, counters);
+                if (is_cancelled(context.cancel)) return;
                 for (int i = 0; i < count; ++i) {
                     out.at(x + i, y) = c[i];
                     check_pixel(c[i], x + i, y);
@@ -106,6 +109,7 @@ void render_first_pass_tile(const TileContext& context, const Tile& tile, Image&
                     glm::vec3 c[8];
                     trace_row8(context, x, tile.x1, y, (static_cast<float>(sx) + 0.5f) * cell,
                                (static_cast<float>(sy) + 0.5f) * cell, 0, out.width, c, counters);
+                    if (is_cancelled(context.cancel)) return;
                     for (int i = 0; i < count; ++i) {
                         sum[i] += c[i];
                         if (k < 4) corner[i][k] = c[i];
@@ -169,6 +173,7 @@ void render_antialiasing_tile(const TileContext& context, const Tile& tile, cons
                     sum += context.integrator->trace_camera_ray(
                         context.camera->generate(static_cast<float>(x) + ox, static_cast<float>(y) + oy), random,
                         counters);
+                    if (is_cancelled(context.cancel)) return;
                     ++counters.samples;
                 }
             }

@@ -6,6 +6,7 @@
 #include "core/render/image.h"
 #include "core/integrators/integrator.h"
 
+#include <atomic>
 #include <cstdint>
 
 namespace caustica {
@@ -29,6 +30,10 @@ struct TileContext {
     /// corner_grid sampling: per pixel, whether its four corner samples differ by more than the
     /// threshold (written by the first pass, read by the anti-aliasing pass; width x height).
     std::vector<std::uint8_t>* refine = nullptr;
+    /// The render's cancel flag (null: none). Once it is set a tile stops after the packet (or
+    /// sample) being traced and writes nothing of it: what was traced then is not the scene's.
+    /// The tile is left incomplete, never to be shown (docs/RELIABILITY.md, "Bounded time").
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 /// Whether the image needs the anti-aliasing pass after the first one.

@@ -1,6 +1,6 @@
 // The reproducers of the hardening audit (tests/repro/README.md), part 1: the sandbox (S1, S2, S4,
-// S5), bounded time (S3: long C calls, finalizers, one Ctrl-C) and atomic output under signals
-// (A1). Each test runs `caustica render` in a child under hard limits (tests/repro/repro_runner.h)
+// S5), bounded time (S3: long C calls, finalizers, one Ctrl-C; I1: one Ctrl-C inside a long packet)
+// and atomic output under signals (A1). Each test runs `caustica render` in a child under hard limits (tests/repro/repro_runner.h)
 // on a copy of the reproducer in a fresh folder, and asserts the exact outcome: exit code, the
 // "file:line:" of the message, nothing read or written outside, the time taken. Part 2 (memory,
 // crashes, NaN) is test_repro_resources.cpp, part 3 (OBJ, PNG) test_repro_inputs.cpp, part 4 (outputs
@@ -64,6 +64,30 @@ Tick interrupt_at(double at, double& sent_at) {
             sent_at = t;
         }
     };
+}
+
+/// Runs `caustica render -v SCENE -o x.png` in `cwd` (killed past `wall_seconds`, scaled) and
+/// sends one SIGINT `delay` seconds after the line "SCENE:LINE: rendering" (the script has run):
+/// exit 130 within a second of the signal, x.png not written.
+Outcome expect_ctrl_c_after_loading(const fs::path& cwd, const std::string& scene, int line, double delay,
+                                    double wall_seconds) {
+    Launch run;
+    run.cwd = cwd;
+    run.args = {"render", "-v", scene, "-o", "x.png"};
+    run.limits.wall_seconds = wall_seconds * time_factor();
+    const std::string marker = scene + ":" + std::to_string(line) + ": rendering";
+    double loaded_at = 0.0, sent_at = 0.0;
+    run.tick = [&](double t, pid_t child, const std::string& err) {
+        if (loaded_at == 0.0 && err.find(marker) != std::string::npos) loaded_at = t;
+        if (loaded_at > 0.0 && sent_at == 0.0 && t >= loaded_at + delay) {
+            signal_group(child, SIGINT);
+            sent_at = t;
+        }
+    };
+    const Outcome o = run_child(run);
+    expect_interrupted(o, sent_at);
+    EXPECT_FALSE(fs::exists(cwd / "x.png"));
+    return o;
 }
 
 }  // namespace
@@ -378,21 +402,18 @@ TEST(ReproTime, S3_OneCtrlCStopsLoadingABigObj) {
 TEST(ReproTime, S3_OneCtrlCStopsBuildingTheSceneOfABigMesh) {
     Scratch s;
     write_big_mesh_scene(s);
-    Launch run;
-    run.cwd = s.root();
-    run.args = {"render", "-v", "scene.lua", "-o", "x.png"};
-    run.limits.wall_seconds = 15.0 * time_factor();
-    double loaded_at = 0.0, sent_at = 0.0;
-    run.tick = [&](double t, pid_t child, const std::string& err) {
-        if (loaded_at == 0.0 && err.find(rendering_marker) != std::string::npos) loaded_at = t;
-        if (loaded_at > 0.0 && sent_at == 0.0 && t >= loaded_at + 0.2) {  // into the Embree build
-            signal_group(child, SIGINT);
-            sent_at = t;
-        }
-    };
-    const Outcome o = run_child(run);
-    expect_interrupted(o, sent_at);
-    EXPECT_FALSE(fs::exists(run.cwd / "x.png"));
+    expect_ctrl_c_after_loading(s.root(), "scene.lua", 4, 0.2, 15.0);  // into the Embree build
+}
+
+// ---- I1: one Ctrl-C stops a camera packet through 262 144 overlapping spheres ----
+
+// The scene builds in under a second; its one tile takes seconds, each packet of 8 rays tens of
+// milliseconds. The SIGINT comes inside the tile; nothing is written.
+TEST(ReproTime, I1_OneCtrlCStopsACameraPacketAndWritesNothing) {
+    Scratch s;
+    s.copy("interrupt/overlapping_spheres.lua", "overlapping_spheres.lua");
+    const Outcome o = expect_ctrl_c_after_loading(s.root(), "overlapping_spheres.lua", 14, 2.0 * pace_factor(), 30.0);
+    EXPECT_NE(o.err.find("interrupted; x.png not written"), std::string::npos) << o.describe();
 }
 
 // ---- A1: a Ctrl-C during the PNG write stops it; nothing partial is ever at the output path ----
