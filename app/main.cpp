@@ -5,6 +5,7 @@
 #include "app/view_command.h"
 #include "core/render/cluster.h"
 #include "core/scene/source_location.h"
+#include "core/util/printable_text.h"
 #ifdef CAUSTICA_HAVE_MPI
 #include "app/mpi_cluster.h"
 #endif
@@ -43,7 +44,8 @@ int render_command(const std::vector<std::string>& args, caustica::Cluster* clus
         } catch (const std::exception& e) {
             // Every failure the ranks can agree on was reported; this one left the other ranks
             // waiting: end them all, with the message.
-            std::fprintf(stderr, "caustica: rank %d of %d: %s\n", cluster->rank(), cluster->size(), e.what());
+            std::fprintf(stderr, "caustica: rank %d of %d: %s\n", cluster->rank(), cluster->size(),
+                         caustica::printable_text(e.what()).c_str());
             caustica::abort_mpi(caustica::exit_failure);
         }
     }
@@ -100,10 +102,10 @@ int run_command(const std::vector<std::string>& args, caustica::Cluster* cluster
         std::fprintf(stderr, "caustica: not enough memory for this scene (an allocation failed)\n");
         return caustica::exit_usage;
     } catch (const caustica::InputError& e) {
-        std::fprintf(stderr, "caustica: %s\n", e.what());
+        std::fprintf(stderr, "caustica: %s\n", caustica::printable_text(e.what()).c_str());
         return caustica::exit_usage;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "caustica: %s\n", e.what());
+        std::fprintf(stderr, "caustica: %s\n", caustica::printable_text(e.what()).c_str());
         return caustica::exit_failure;
     }
 }

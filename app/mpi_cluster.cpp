@@ -1,4 +1,5 @@
 #include "app/mpi_cluster.h"
+#include "core/util/printable_text.h"
 
 #include <mpi.h>
 
@@ -38,7 +39,7 @@ auto guarded(int rank, int size, const char* what, Body&& body) -> decltype(body
     try {
         return body();
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "caustica: rank %d of %d: %s: %s\n", rank, size, what, e.what());
+        std::fprintf(stderr, "caustica: rank %d of %d: %s: %s\n", rank, size, what, printable_text(e.what()).c_str());
     }
     abort_mpi(1);
 }

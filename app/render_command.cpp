@@ -11,6 +11,7 @@
 #include "core/render/random.h"
 #include "core/render/render_session.h"
 #include "core/render/cluster.h"
+#include "core/util/printable_text.h"
 
 #include <algorithm>
 #include <atomic>
@@ -50,8 +51,8 @@ int render_frame(RenderSession& session, const RenderJob& job, const std::string
     const Options& o = job.options;
     session.set_job(job);
     if (o.verbose && !o.silent)
-        std::fprintf(stderr, "%s: rendering %s (%d x %d)\n", job.where.str().c_str(), path.c_str(),
-                     o.resolution_override ? o.resolution_override : job.width,
+        std::fprintf(stderr, "%s: rendering %s (%d x %d)\n", printable_text(job.where.str()).c_str(),
+                     printable_text(path).c_str(), o.resolution_override ? o.resolution_override : job.width,
                      o.resolution_override ? o.resolution_override : job.height);
     session.start();
     ProgressBar bar(show && !o.silent);
@@ -81,14 +82,15 @@ int render_frame(RenderSession& session, const RenderJob& job, const std::string
     bar.finish();
     const bool complete = session.wait();  // rethrows scene errors found while preparing
     if (show && !o.silent)
-        for (const std::string& w : session.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
+        for (const std::string& w : session.warnings()) std::fprintf(stderr, "warning: %s\n", printable_text(w).c_str());
     return complete && !interrupted ? exit_ok : exit_interrupted;
 }
 
 /// Renders one frame and writes its image.
 int render_job(RenderSession& session, const AnimationFrame& frame, const std::string& scene_path, const std::string& label) {
     if (render_frame(session, frame.job, frame.path, true) != exit_ok) {
-        if (!frame.job.options.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", frame.path.c_str());
+        if (!frame.job.options.silent)
+            std::fprintf(stderr, "caustica: interrupted; %s not written\n", printable_text(frame.path).c_str());
         return exit_interrupted;
     }
     return write_frame(frame, scene_path, label, session.image(), session.stats());
@@ -101,9 +103,10 @@ int report(const RankFailure& failure, const Cluster& cluster, bool said = false
         if (failure.exit_code == exit_interrupted) {
             if (!said) std::fprintf(stderr, "caustica: interrupted; nothing more written\n");
         } else if (failure.rank == 0) {
-            std::fprintf(stderr, "caustica: %s\n", failure.message.c_str());
+            std::fprintf(stderr, "caustica: %s\n", printable_text(failure.message).c_str());
         } else {
-            std::fprintf(stderr, "caustica: rank %d of %d: %s\n", failure.rank, cluster.size(), failure.message.c_str());
+            std::fprintf(stderr, "caustica: rank %d of %d: %s\n", failure.rank, cluster.size(),
+                         printable_text(failure.message).c_str());
         }
     }
     return failure.exit_code;
@@ -201,7 +204,7 @@ int render_with_ranks(Cluster& cluster, RenderSession& session, const RenderPlan
             if (!mine && code != exit_ok) mine = RankFailure{cluster.rank(), code, "interrupted"};
             if (const std::optional<RankFailure> failure = cluster.agree(mine)) {
                 if (root && failure->exit_code == exit_interrupted && !frame.job.options.silent)
-                    std::fprintf(stderr, "caustica: interrupted; %s not written\n", frame.path.c_str());
+                    std::fprintf(stderr, "caustica: interrupted; %s not written\n", printable_text(frame.path).c_str());
                 return report(*failure, cluster, true);
             }
             mine.reset();

@@ -8,6 +8,7 @@
 #include "app/render_interrupt.h"
 #include "app/render_plan.h"
 #include "core/io/image_io.h"
+#include "core/util/printable_text.h"
 
 #include <algorithm>
 #include <cstdarg>
@@ -155,7 +156,7 @@ int write_frame(const AnimationFrame& frame, const std::string& scene_path, cons
     try {
         write_image_atomic(path, image, write_settings(o), render_metadata(job, scene_path, stats, label), &interrupted, place);
     } catch (const ImageWriteCancelled&) {
-        if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", path.c_str());
+        if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", printable_text(path).c_str());
         return exit_interrupted;
     } catch (const OutputOutsideFolder& e) {
         throw output_outside(job, e.what());
@@ -164,7 +165,9 @@ int write_frame(const AnimationFrame& frame, const std::string& scene_path, cons
         std::fputs(stats_from_rank->c_str(), stderr);
     else
         print_stats(stats, o.timing, o.stats);
-    if (!o.silent) std::printf("wrote %s (%d x %d, %.2f s)\n", path.c_str(), image.width, image.height, stats.total_seconds);
+    if (!o.silent)
+        std::printf("wrote %s (%d x %d, %.2f s)\n", printable_text(path).c_str(), image.width, image.height,
+                    stats.total_seconds);
     return exit_ok;
 }
 

@@ -11,6 +11,7 @@
 #include "core/lua/scene_loader.h"
 #include "core/render/render_session.h"
 #include "core/scene/camera.h"
+#include "core/util/printable_text.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -140,13 +141,13 @@ int plan_render(const std::vector<std::string>& args, RenderSession& session, bo
     try {
         script = load_scene_script(parsed.scene, settings);
     } catch (const ScriptCancelled&) {
-        if (writes) std::fprintf(stderr, "caustica: interrupted while running %s\n", parsed.scene.c_str());
+        if (writes) std::fprintf(stderr, "caustica: interrupted while running %s\n", printable_text(parsed.scene).c_str());
         return exit_interrupted;
     } catch (const std::bad_alloc&) {
         throw InputError(parsed.scene + ": not enough memory to run the script");
     }
     if (writes && !command_line.silent)
-        for (const std::string& w : script.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+        for (const std::string& w : script.warnings) std::fprintf(stderr, "warning: %s\n", printable_text(w).c_str());
     if (script.renders.empty()) throw InputError(parsed.scene + ": the script calls no gr.render; nothing to render");
 
     // The command line wins over gr.option: re-apply its tokens on top of each job's options.
@@ -173,7 +174,7 @@ int plan_render(const std::vector<std::string>& args, RenderSession& session, bo
             throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
     }
     if (writes && !jobs[0].options.silent)
-        for (const std::string& w : out.plan.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+        for (const std::string& w : out.plan.warnings) std::fprintf(stderr, "warning: %s\n", printable_text(w).c_str());
     // Frames are numbered in the images' metadata when there is more than one to number.
     out.numbered = parsed.animation.any() || jobs.size() > 1;
     if (out.plan.needs_target) {

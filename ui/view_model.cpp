@@ -5,6 +5,7 @@
 #include "core/integrators/registry.h"
 
 #include "core/scene/camera.h"
+#include "core/util/printable_text.h"
 #include "ui/view_model_internal.h"
 
 #include <algorithm>
@@ -41,7 +42,7 @@ void ViewModel::open(const std::string& path) {
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
     if (extension != ".lua") {  // an image or mesh would run as Lua and fail with a baffling syntax error
-        error_ = path + ": not a scene script (scenes are .lua files)";
+        error_ = printable_text(path + ": not a scene script (scenes are .lua files)");
         return;
     }
     watched_path_ = path;
@@ -62,15 +63,17 @@ void ViewModel::select_render(int index) {
 }
 
 std::vector<std::string> ViewModel::warnings() const {
-    std::vector<std::string> all = scene_ ? scene_->warnings : std::vector<std::string>{};
-    for (const std::string& w : driver_.session().warnings()) all.push_back(w);
+    std::vector<std::string> all;
+    if (scene_)
+        for (const std::string& w : scene_->warnings) all.push_back(printable_text(w));
+    for (const std::string& w : driver_.session().warnings()) all.push_back(printable_text(w));
     return all;
 }
 
 void ViewModel::install(LoadedScene loaded) {
     const bool reloaded = same_file(loaded.path, scene_path_);
     if (!loaded.error.empty()) {  // the shown scene stays; the failed file is watched for a fix
-        error_ = loaded.error;
+        error_ = printable_text(loaded.error);
         watch_current();
         return;
     }
@@ -176,7 +179,7 @@ void ViewModel::update() {
             driver_.request(compose(inputs_));
             requested_inputs_ = inputs_;
         } catch (const std::exception& e) {
-            error_ = e.what();
+            error_ = printable_text(e.what());
         }
         dirty_ = false;
     }
@@ -188,7 +191,7 @@ void ViewModel::update() {
     if (std::optional<std::string> failure = driver_.take_error()) {
         // A render that fails to prepare (e.g. a material that breaks the photon roulette) puts
         // back the last inputs that rendered; the image of that render stays on screen.
-        error_ = *failure;
+        error_ = printable_text(*failure);
         if (!scheduled_save_.empty()) {  // it would wait for an end that will not come
             scheduled_result_ = SaveResult{SaveOutcome::failed, scheduled_save_ + " not saved: the render failed"};
             scheduled_save_.clear();

@@ -125,9 +125,9 @@ public:
     int render_index() const { return inputs_.render_index; }
     /// Shows another gr.render of the script.
     void select_render(int index);
-    /// Warnings of the script and of the render ("file:line: message").
+    /// Warnings of the script and of the render ("file:line: message"), as printable_text shows them.
     std::vector<std::string> warnings() const;
-    /// The last scene or render error ("file:line: message"), "" when none.
+    /// The last scene or render error ("file:line: message") as printable_text shows it, "" when none.
     const std::string& error() const { return error_; }
     /// Hides the error.
     void clear_error() { error_.clear(); }

@@ -2,6 +2,7 @@
 
 #include "core/io/regular_file.h"
 #include "core/scene/source_location.h"
+#include "core/util/printable_text.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -397,7 +398,8 @@ void write_exr_atomic(const std::string& path, const Image& image, ExrPixel pixe
                 Imf::Header header(image.width, image.height);  // ZIP compression, increasing Y
                 const Imf::PixelType type = pixel == ExrPixel::half ? Imf::HALF : Imf::FLOAT;
                 for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(type));
-                for (const auto& [key, value] : metadata) header.insert(key, Imf::StringAttribute(value));
+                for (const auto& [key, value] : metadata)  // printable, as the PNG's (png_io.cpp)
+                    header.insert(key, Imf::StringAttribute(printable_text(value)));
                 FileOStream stream(file, path);
                 Imf::OutputFile out(stream, header, 1);
                 // One row at a time through a row buffer (the slices' y stride is 0, so every row

@@ -1,6 +1,7 @@
 #include "core/io/png_io.h"
 
 #include "core/io/atomic_file.h"
+#include "core/util/printable_text.h"
 
 #include <png.h>
 
@@ -282,6 +283,7 @@ struct PngWriter {
     png_infop info = nullptr;
     PngErrorText error;
     std::vector<unsigned char> row;
+    std::vector<std::string> text_values;  ///< the metadata's values as printable_text shows them
     std::vector<png_text> texts;
     ~PngWriter() { png_destroy_write_struct(&png, info ? &info : nullptr); }
 };
@@ -315,12 +317,15 @@ WriteOutcome write_png_stream(FILE* file, const Image& image, PixelEncoding enco
                               const std::atomic<bool>* cancel, std::string& error) {
     PngWriter w;
     w.row.resize(static_cast<std::size_t>(image.width) * 3);
+    // Values may hold a script's or a path's text: written printable (docs/RELIABILITY.md, "Script
+    // text reaches the user bounded and visible").
+    for (const auto& chunk : text_chunks) w.text_values.push_back(printable_text(chunk.second));
     w.texts.resize(text_chunks.size());
     for (std::size_t i = 0; i < text_chunks.size(); ++i) {
         w.texts[i].compression = PNG_TEXT_COMPRESSION_NONE;
         w.texts[i].key = const_cast<char*>(text_chunks[i].first.c_str());
-        w.texts[i].text = const_cast<char*>(text_chunks[i].second.c_str());
-        w.texts[i].text_length = text_chunks[i].second.size();
+        w.texts[i].text = const_cast<char*>(w.text_values[i].c_str());
+        w.texts[i].text_length = w.text_values[i].size();
     }
     w.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &w.error, png_error_handler, png_warning_handler);
     if (w.png) w.info = png_create_info_struct(w.png);

@@ -2,6 +2,7 @@
 
 #include "core/lua/lua_context.h"
 #include "core/lua/scene_wire.h"
+#include "core/util/printable_text.h"
 #include "core/util/sanitized.h"
 
 #include <signal.h>
@@ -126,11 +127,11 @@ std::string run(const std::string& request) {
         } catch (const ScriptCancelled&) {
             return "C";
         } catch (const InputError& e) {
-            return std::string("E") + e.what();
+            return "E" + printable_text(e.what());
         } catch (const std::bad_alloc&) {
             return "Mout of memory";
         } catch (const std::exception& e) {
-            return std::string("X") + e.what();
+            return "X" + printable_text(e.what());
         }
     } catch (...) {
         return "Mout of memory";

@@ -4,7 +4,9 @@
 //   fd 4: the reply: an 8-byte length, a kind letter and its payload;
 //   fd 5: a SharedProgress page the child keeps the script's current line in.
 // Reply kinds: 'O' + scene bytes (scene_wire.h), 'E' + message (InputError), 'C' (cancelled),
-// 'M' + message (out of memory, without location), 'X' + message (anything else).
+// 'M' + message (out of memory, without location), 'X' + message (anything else). Messages are
+// printable and at most printable_text_max_bytes(shown_message_limit) bytes
+// (core/util/printable_text.h); the parent keeps no more of one than that.
 #pragma once
 
 #include "core/lua/scene_loader.h"

@@ -122,9 +122,11 @@ std::string describe_value(lua_State* L, int index) {
     case LUA_TBOOLEAN: return "a boolean";
     case LUA_TNUMBER: return "a number (" + format_number(lua_tonumber(L, index)) + ")";
     case LUA_TSTRING: {
-        std::string text = lua_tostring(L, index);
-        if (text.size() > 40) text = text.substr(0, 37) + "...";
-        return "a string ('" + text + "')";
+        std::size_t size = 0;
+        const char* value = lua_tolstring(L, index, &size);
+        std::string text(value, std::min<std::size_t>(size, 40));
+        if (size > 40) text = text.substr(0, 37) + "...";
+        return "a string ('" + printable_text(text) + "')";
     }
     case LUA_TTABLE: return "a table";
     case LUA_TFUNCTION: return "a function";

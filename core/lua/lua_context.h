@@ -9,6 +9,7 @@
 
 #include "core/lua/loader_child.h"
 #include "core/lua/scene_loader.h"
+#include "core/util/printable_text.h"
 
 #include <lua.hpp>
 
@@ -20,6 +21,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace caustica {
@@ -63,7 +65,9 @@ struct LoaderContext {
     glm::dvec3 miss_colour{1.0};            ///< white until gr.set_miss_colour (docs/SCENE_LANGUAGE.md)
     std::vector<RenderJob> renders;
     std::vector<std::string> warnings;
-    std::string warning_in_progress;        ///< pieces of a multi-part warn() message
+    std::string warning_in_progress;        ///< pieces of a multi-part warn() message, at most script_text_limit bytes
+    std::size_t warning_left_out = 0;       ///< bytes of those pieces past script_text_limit
+    ScriptOutputBudget output;              ///< what print, io.write and warn may still show
 
     // limits
     std::size_t memory_used = 0;
@@ -194,6 +198,14 @@ SceneScript run_script(const std::string& path, const LoadSettings& settings, Sh
 /// Opens base, table, string, math, utf8 and the restricted io, os, debug, package, require,
 /// module and load (lua_CFunction run under lua_pcall while the state is set up).
 int open_sandboxed_libraries(lua_State* L);
+
+/// Replaces print, io.write, the standard files' write and warn by versions that go through
+/// LoaderContext::output (core/lua/lua_output.cpp).
+void bound_script_output(lua_State* L);
+/// Adds one piece of a warning (the last one when !to_continue) to ctx.warnings: each warning
+/// printable and bounded, all of them within ctx.output, shared with print and io.write
+/// (docs/RELIABILITY.md, "Script text reaches the user bounded and visible"). Never throws.
+void collect_warning_piece(LoaderContext& ctx, std::string_view piece, bool to_continue) noexcept;
 
 /// Adds the Lua 5.1 names to the opened libraries: string.gfind, table.getn, unpack, math.mod,
 /// math.pow, loadstring (text only) and 5.1's math.random/math.randomseed (lua_random51.h).

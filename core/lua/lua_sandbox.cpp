@@ -149,7 +149,8 @@ int sandbox_io_lines(lua_State* L) {
     return call_real_io(L);
 }
 
-/// io keeps open/lines (wrapped), close, type, write (to standard output), stdout and stderr.
+/// io keeps open/lines (wrapped), close, type, write (to standard output, bounded by
+/// bound_script_output), stdout and stderr.
 void restrict_io(lua_State* L) {
     luaL_requiref(L, LUA_IOLIBNAME, luaopen_io, 1);
     lua_getfield(L, -1, "open");
@@ -550,6 +551,7 @@ int open_sandboxed_libraries(lua_State* L) {
     set_field(L, LUA_STRLIBNAME, "dump", nullptr);
 
     restrict_io(L);
+    bound_script_output(L);
     keep_only(L, LUA_OSLIBNAME, luaopen_os, {"clock", "time", "date", "getenv"});
     keep_only(L, LUA_DBLIBNAME, luaopen_debug, {"getinfo", "traceback"});
     open_package(L);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -102,27 +103,42 @@ void count_hook(lua_State* L, lua_Debug* ar) {
     lua_error(L);
 }
 
-/// warn(...) from the script, and Lua's own warnings, become SceneScript::warnings.
-void collect_warning(void* ud, const char* message, int to_continue) noexcept {
-    auto& ctx = *static_cast<LoaderContext*>(ud);
+}  // namespace
+
+void scene_lua::collect_warning_piece(LoaderContext& ctx, std::string_view piece, bool to_continue) noexcept {
     try {
         if (ctx.finished || !ctx.stop_message.empty()) return;
-        if (ctx.warning_in_progress.empty() && !to_continue && message[0] == '@') return;  // "@on", "@off"
+        const bool first_piece = ctx.warning_in_progress.empty() && ctx.warning_left_out == 0;
+        if (first_piece && !to_continue && !piece.empty() && piece[0] == '@') return;  // "@on", "@off"
+        const std::size_t kept = std::min(piece.size(), script_text_limit - ctx.warning_in_progress.size());
+        ctx.warning_in_progress.append(piece.substr(0, kept));
+        ctx.warning_left_out += piece.size() - kept;
+        if (to_continue) return;
+        const SourceLocation where = caller_location(ctx.L, 1);
+        const std::string text = (where.file.empty() ? std::string() : where.str() + ": ") + ctx.warning_in_progress;
+        const std::size_t left_out = ctx.warning_left_out;
+        ctx.warning_in_progress.clear();
+        ctx.warning_left_out = 0;
+        std::optional<std::string> shown = ctx.output.admit(text, left_out);
+        if (!shown) return;
         try {
-            charge_memory(ctx, std::strlen(message), "warnings");
+            charge_memory(ctx, shown->size(), "warnings");
         } catch (const InputError& e) {
             // No Lua error can be raised from here: the hook raises it at the next instruction.
-            ctx.stop_message = caller_location(ctx.L, 1).str() + ": warn: " + e.what();
+            ctx.stop_message = where.str() + ": warn: " + e.what();
             lua_sethook(ctx.L, count_hook, LUA_MASKCOUNT, 1);
             return;
         }
-        ctx.warning_in_progress += message;
-        if (to_continue) return;
-        const SourceLocation where = caller_location(ctx.L, 1);
-        ctx.warnings.push_back((where.file.empty() ? std::string() : where.str() + ": ") + ctx.warning_in_progress);
-        ctx.warning_in_progress.clear();
+        ctx.warnings.push_back(std::move(*shown));
     } catch (...) {
     }
+}
+
+namespace {
+
+/// Lua's own warnings (the script's warn() is bound_script_output's) go the same way.
+void collect_warning(void* ud, const char* message, int to_continue) noexcept {
+    collect_warning_piece(*static_cast<LoaderContext*>(ud), message, to_continue != 0);
 }
 
 /// True when `text` starts like "file:12: " (no colon or newline in the file part).
@@ -134,20 +150,23 @@ bool starts_with_location(const std::string& text) {
     return end > colon + 1 && end < text.size() && text[end] == ':';
 }
 
-/// Gives an error value without a location ("error('x', 0)", "error({})") the line that raised it;
-/// the answer goes to ctx.result_text. Never throws.
-bool locate_error(lua_State* L, LoaderContext& ctx) noexcept {
+/// The error value as the user will see it, in ctx.result_text: a string made printable and
+/// bounded (docs/RELIABILITY.md, "Script text reaches the user bounded and visible"), and given the
+/// line that raised it when it carries none ("error('x', 0)", "error({})"). Never throws.
+bool shown_error(lua_State* L, LoaderContext& ctx) noexcept {
     try {
-        const SourceLocation where = caller_location(L, 1);
-        if (where.file.empty()) return false;
         std::string text;
+        bool located = false;
         if (lua_type(L, 1) == LUA_TSTRING) {
-            text = lua_tostring(L, 1);
-            if (starts_with_location(text) || text.rfind(ctx.script_path + ":", 0) == 0) return false;
+            std::size_t size = 0;
+            const char* value = lua_tolstring(L, 1, &size);
+            text = printable_text({value, size}, script_text_limit);
+            located = starts_with_location(text) || text.rfind(ctx.script_path + ":", 0) == 0;
         } else {
             text = "error object is " + describe_value(L, 1);
         }
-        ctx.result_text = where.str() + ": " + text;
+        const SourceLocation where = located ? SourceLocation{} : caller_location(L, 1);
+        ctx.result_text = where.file.empty() ? std::move(text) : where.str() + ": " + text;
         return true;
     } catch (...) {
         return false;
@@ -156,7 +175,8 @@ bool locate_error(lua_State* L, LoaderContext& ctx) noexcept {
 
 /// The message handler of the main chunk's lua_pcall.
 int message_handler(lua_State* L) {
-    if (locate_error(L, context(L))) lua_pushstring(L, context(L).result_text.c_str());
+    LoaderContext& ctx = context(L);
+    if (shown_error(L, ctx)) lua_pushlstring(L, ctx.result_text.data(), ctx.result_text.size());
     else lua_settop(L, 1);
     return 1;
 }
@@ -178,7 +198,11 @@ int set_up_state(lua_State* L) {
 /// The error value on top of the stack as text, without calling anything that may raise.
 std::string error_text(lua_State* L) {
     switch (lua_type(L, -1)) {
-    case LUA_TSTRING: return lua_tostring(L, -1);
+    case LUA_TSTRING: {
+        std::size_t size = 0;
+        const char* text = lua_tolstring(L, -1, &size);
+        return printable_text({text, size});
+    }
     case LUA_TNUMBER: return "error " + format_number(lua_tonumber(L, -1));
     default: return "error object is " + describe_value(L, -1);
     }
@@ -323,11 +347,16 @@ SceneScript scene_lua::run_script(const std::string& path, const LoadSettings& s
     release_memory(ctx, ctx.result_text.size());  // the text goes; the chunk stays
     std::string().swap(ctx.result_text);
     if (status == LUA_OK) status = lua_pcall(L, 0, 0, 1);
+    const std::string output_left_out = ctx.output.summary("script output (print, io.write, warn)");
     if (status != LUA_OK) {
         const std::string message = failure_message(L, ctx, status);
         const bool cancelled = ctx.cancelled;
         owner.close();
         if (cancelled) throw ScriptCancelled();
+        if (!output_left_out.empty()) {  // the error replaces the warnings: say it where the output went
+            std::fflush(stdout);
+            std::fprintf(stderr, "warning: %s\n", printable_text(path + ": " + output_left_out).c_str());
+        }
         throw InputError(message);
     }
     owner.close();
@@ -336,6 +365,7 @@ SceneScript scene_lua::run_script(const std::string& path, const LoadSettings& s
     script.path = path;
     script.renders = std::move(ctx.renders);
     script.warnings = std::move(ctx.warnings);
+    if (!output_left_out.empty()) script.warnings.push_back(path + ": " + output_left_out);
     return script;
 }
 

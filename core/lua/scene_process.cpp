@@ -7,6 +7,7 @@
 // its SceneScript as bytes (scene_wire.h) or its error (loader_child.h has the protocol).
 #include "core/lua/loader_child.h"
 #include "core/lua/scene_wire.h"
+#include "core/util/printable_text.h"
 
 #include <spawn.h>
 
@@ -17,10 +18,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <string_view>
 
 extern char** environ;
 
@@ -151,6 +155,52 @@ private:
     pid_t pid_;
 };
 
+/// The child's reply as it arrives (loader_child.h has its layout): all of a scene, at most a
+/// bounded message of any other kind. Past that bound the bytes are counted, not kept, so that a
+/// broken or hostile child cannot make this process hold a huge message (docs/RELIABILITY.md,
+/// "Script text reaches the user bounded and visible").
+class ReplyBytes {
+public:
+    /// The 8-byte length and the kind letter.
+    static constexpr std::size_t header_bytes = sizeof(std::uint64_t) + 1;
+    /// The most a working child sends after the header of a message (loader_child.cpp bounds it).
+    static constexpr std::size_t message_bytes = printable_text_max_bytes(shown_message_limit);
+
+    void add(std::string_view data) {
+        received_ += data.size();
+        if (bytes_.size() < header_bytes) {
+            const std::size_t head = std::min(data.size(), header_bytes - bytes_.size());
+            bytes_.append(data.substr(0, head));
+            data.remove_prefix(head);
+        }
+        const bool bounded = bytes_.size() >= header_bytes && kind() != 'O';
+        const std::size_t kept = bounded ? std::min(data.size(), message_bytes - kept_payload()) : data.size();
+        bytes_.append(data.substr(0, kept));
+        dropped_ += data.size() - kept;
+    }
+    /// Whether the reply is whole: its length says how many bytes followed it.
+    bool complete() const {
+        std::uint64_t size = 0;
+        if (bytes_.size() < header_bytes) return false;
+        std::memcpy(&size, bytes_.data(), sizeof size);
+        return size == received_ - sizeof size;
+    }
+    char kind() const { return bytes_.size() < header_bytes ? '\0' : bytes_[header_bytes - 1]; }
+    /// What follows the kind letter, as far as it was kept.
+    std::string_view payload() const {
+        return std::string_view(bytes_).substr(std::min(bytes_.size(), header_bytes));
+    }
+    /// The message it carries: unchanged from a working child (which made it printable and bounded
+    /// it), printable and bounded from any other, with the bytes not kept counted in.
+    std::string message() const { return printable_text(payload(), message_bytes, dropped_); }
+
+private:
+    std::size_t kept_payload() const { return bytes_.size() < header_bytes ? 0 : bytes_.size() - header_bytes; }
+    std::string bytes_;
+    std::size_t received_ = 0;
+    std::size_t dropped_ = 0;
+};
+
 std::string signal_text(int number) {
     const char* name = ::strsignal(number);
     return "signal " + std::to_string(number) + (name ? std::string(" (") + name + ")" : std::string());
@@ -218,7 +268,7 @@ SceneScript load_scene_script(const std::string& path, const LoadSettings& setti
     const auto limit = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double>(std::min(settings.timeout_seconds, 1e9)));
     bool stop_sent = false;
-    std::string reply;
+    ReplyBytes reply;
     char buffer[1 << 16];
     for (;;) {
         pollfd ready{reading_fd, POLLIN, 0};
@@ -226,7 +276,7 @@ SceneScript load_scene_script(const std::string& path, const LoadSettings& setti
         if (polled > 0) {
             const ssize_t got = ::read(reading_fd, buffer, sizeof buffer);
             if (got == 0) break;
-            if (got > 0) reply.append(buffer, static_cast<std::size_t>(got));
+            if (got > 0) reply.add(std::string_view(buffer, static_cast<std::size_t>(got)));
             else if (errno != EINTR && errno != EAGAIN) break;
         }
         if (settings.cancel && settings.cancel->load()) throw ScriptCancelled();  // ~Child kills it
@@ -245,23 +295,18 @@ SceneScript load_scene_script(const std::string& path, const LoadSettings& setti
     }
     const int status = child.wait();
     if (settings.cancel && settings.cancel->load()) throw ScriptCancelled();
-    std::uint64_t size = 0;
-    if (reply.size() >= sizeof size) std::memcpy(&size, reply.data(), sizeof size);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || reply.size() < sizeof size + 1 ||
-        size != reply.size() - sizeof size) {
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !reply.complete()) {
         std::string how = WIFSIGNALED(status) ? "was ended by " + signal_text(WTERMSIG(status))
                                               : "ended without an answer";
         throw InputError(page.where(path) + ": the scene interpreter " + how +
                          " (a bug in caustica: please report it with the scene)");
     }
-    const char kind = reply[sizeof size];
-    const std::string_view payload(reply.data() + sizeof size + 1, reply.size() - sizeof size - 1);
-    switch (kind) {
-    case 'O': return decode_scene_script(payload);
+    switch (reply.kind()) {
+    case 'O': return decode_scene_script(reply.payload());
     case 'C': throw ScriptCancelled();
-    case 'E': throw InputError(std::string(payload));
-    case 'M': throw InputError(page.where(path) + ": " + std::string(payload));
-    default: throw InputError(path + ": " + std::string(payload));
+    case 'E': throw InputError(reply.message());
+    case 'M': throw InputError(page.where(path) + ": " + reply.message());
+    default: throw InputError(path + ": " + reply.message());
     }
 }
 

@@ -1,6 +1,7 @@
 #include "core/lua/scene_wire.h"
 
 #include "core/io/png_io.h"
+#include "core/util/printable_text.h"
 
 #include <cstdint>
 #include <cstring>
@@ -62,9 +63,11 @@ public:
         if (item_bytes != 0 && n > (bytes_.size() - at_) / item_bytes) fail();
         return static_cast<std::size_t>(n);
     }
-    std::string text() {
+    std::string text() { return std::string(text_view()); }
+    /// A text where it lies in the bytes (no copy).
+    std::string_view text_view() {
         const std::size_t n = size();
-        return std::string(take(n), n);
+        return std::string_view(take(n), n);
     }
     template <class T>
     std::vector<T> pods() {
@@ -352,8 +355,16 @@ SceneScript decode_scene_script(std::string_view bytes) {
     if (r.pod<std::uint32_t>() != wire_magic) Reader::fail();
     SceneScript script;
     script.path = r.text();
-    script.warnings.resize(r.size(8));
-    for (std::string& warning : script.warnings) warning = r.text();
+    // The loader bounded its warnings and made them printable; they are bounded again here, so
+    // that no other sender can make the renderer show (or hold a copy of) more
+    // (docs/RELIABILITY.md, "Script text reaches the user bounded and visible"). Twice the
+    // loader's own total leaves room for its closing line: what it sent passes unchanged.
+    ScriptOutputBudget shown_warnings(2 * script_output_limit, printable_text_max_bytes(shown_message_limit));
+    for (std::size_t count = r.size(8), i = 0; i < count; ++i)
+        if (std::optional<std::string> warning = shown_warnings.admit(r.text_view()))
+            script.warnings.push_back(std::move(*warning));
+    if (const std::string more = shown_warnings.summary("warnings"); !more.empty())
+        script.warnings.push_back(printable_text(script.path) + ": " + more);
     std::vector<std::shared_ptr<const Png8>> images(r.size(8));
     for (auto& image : images) {
         Png8 png;

@@ -1,7 +1,8 @@
 // The loader process hands its SceneScript to the renderer's process as bytes: this is that format
 // (native byte order: both ends are the same executable). Shared scenes, meshes and images are
 // written once and referred to by index. The reader checks every length against what is left, so
-// a damaged message is an error, never an oversized allocation or an out-of-bounds read.
+// a damaged message is an error, never an oversized allocation or an out-of-bounds read, and it
+// bounds the warnings again (core/util/printable_text.h).
 #pragma once
 
 #include "core/scene/scene_desc.h"

@@ -6,6 +6,7 @@
 #include "core/photons/caustic_stage.h"
 #include "core/scene/scene_flatten.h"
 #include "core/shading/material.h"
+#include "core/util/printable_text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -104,12 +105,14 @@ std::shared_ptr<const SceneInspector::Index> SceneInspector::make_index(const Re
         }
         index->csg.push_back(c);
     }
+    // Names and file names are the script's text, kept as they are shown (docs/RELIABILITY.md,
+    // "Script text reaches the user bounded and visible").
     for (const NodeDesc& n : desc.nodes) {
-        index->node_names.push_back(n.name);
-        index->node_wheres.push_back(n.where.str());
+        index->node_names.push_back(printable_text(n.name, script_text_limit));
+        index->node_wheres.push_back(printable_text(n.where.str()));
     }
     for (const MaterialDesc& m : desc.materials) {
-        index->material_wheres.push_back(m.where.str());
+        index->material_wheres.push_back(printable_text(m.where.str()));
         index->materials.push_back(Material::from_desc(m));
     }
     return index;

@@ -24,8 +24,8 @@ struct CausticStage;
 struct SurfaceInspection {
     glm::vec3 point{0.0f};
     float distance = 0.0f;          ///< ray parameter of the hit
-    std::string object;             ///< the scene node whose primitive was hit ("" when not identified)
-    std::string object_where;       ///< its script line ("file:line")
+    std::string object;             ///< the name of the node whose primitive was hit, printable ("" when not identified)
+    std::string object_where;       ///< its script line ("file:line"), printable
     int material = -1;              ///< index into SceneDesc::materials, -1 = the default material
     std::string material_where;     ///< the gr.material call's line
     glm::vec3 kd{0.0f}, ks{0.0f};

@@ -176,6 +176,31 @@ TEST_F(Cli, SyntaxErrorNamesTheLine) {
     EXPECT_NE(r.output.find("syntax.lua:2:"), std::string::npos) << r.output;
 }
 
+TEST_F(Cli, ScriptTextReachesTheTerminalWithItsEscapesMadeVisible) {
+    // A node name the renderer quotes in a warning, print output and a script error: each with
+    // escape sequences (screen clear, window title, clipboard write) that must not reach the
+    // terminal as such (docs/RELIABILITY.md, "Script text reaches the user bounded and visible").
+    write("escapes.lua",
+          "s = gr.nh_sphere('\\27]0;title\\7ball', {0, 0, 0}, 1)\n"
+          "root = gr.node('root')\n"
+          "root:add_child(s)\n"
+          "l = gr.light({5, 5, 5}, {1, 1, 1}, {1, 0, 0})\n"
+          "print('\\27[2J café')\n"
+          "gr.render(root, 'out.png', 8, 8, {0, 0, 5}, {0, 0, -1}, {0, 1, 0}, 50, {0.1, 0.1, 0.1}, {l})\n");
+    const Result r = run("render escapes.lua");
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("\\x1b[2J café\n"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("escapes.lua:1: node '\\x1b]0;title\\x07ball' has no material"), std::string::npos)
+        << r.output;
+    write("error.lua", "error('\\27]52;c;ZXZpbA==\\7')\n");
+    const Result failed = run("render error.lua");
+    EXPECT_EQ(failed.code, 2);
+    EXPECT_NE(failed.output.find("error.lua:1: \\x1b]52;c;ZXZpbA==\\x07"), std::string::npos) << failed.output;
+    for (const std::string& output : {r.output, failed.output})
+        EXPECT_EQ(std::count_if(output.begin(), output.end(), [](char c) { return c == '\x1b' || c == '\x07'; }), 0)
+            << output;
+}
+
 TEST_F(Cli, UnwritableOutputFolderIsRefusedBeforeRendering) {
     // Exit 1, "the output could not be written" (README), as when the write fails after rendering.
     std::string scene = small_scene;

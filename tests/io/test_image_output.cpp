@@ -239,6 +239,20 @@ TEST(Exr, ParametersAreStringAttributesOfTheHeader) {
     for (const auto& pair : metadata) EXPECT_NE(std::find(ours.begin(), ours.end(), pair), ours.end()) << pair.first;
 }
 
+TEST(Metadata, IsWrittenPrintableInBothFormats) {
+    // A scene path holding escape sequences (screen clear, window title, clipboard write) and a C1
+    // control reaches the file made visible; UTF-8 passes unchanged (docs/RELIABILITY.md, "Script
+    // text reaches the user bounded and visible").
+    const TempFolder folder("caustica_output");
+    const std::string source = "scenes/\x1b[2J\x1b]0;title\x07\x1b]52;c;ZXZpbA==\x07\xc2\x9b" "café.lua";
+    const std::string shown = "scenes/\\x1b[2J\\x1b]0;title\\x07\\x1b]52;c;ZXZpbA==\\x07\\u009bcafé.lua";
+    const ImageMetadata metadata = {{"Source", source}};
+    write_image_atomic(folder.file("m.png"), test_image(), ImageWriteSettings{}, metadata);
+    write_image_atomic(folder.file("m.exr"), test_image(), ImageWriteSettings{}, metadata);
+    EXPECT_EQ(read_png(folder.file("m.png")).text, (ImageMetadata{{"Source", shown}}));
+    EXPECT_EQ(read_exr_metadata(folder.file("m.exr")), (ImageMetadata{{"Source", shown}}));
+}
+
 TEST(Exr, CancelledWriteLeavesNothing) {
     const TempFolder folder("caustica_output");
     const std::atomic<bool> cancel{true};
