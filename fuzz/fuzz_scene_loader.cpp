@@ -9,6 +9,7 @@
 #include "core/io/png_io.h"
 #include "core/render/render_session.h"
 #include "core/scene/source_location.h"
+#include "core/util/printable_text.h"
 
 #include <algorithm>
 #include <chrono>
@@ -97,6 +98,15 @@ void render_first_job(const RenderJob& job) {
                      "no NaN or Inf reaches the image (absurd magnitudes are refused)");
 }
 
+/// Text a script chose reaches the user bounded and with nothing a terminal would act on
+/// (docs/RELIABILITY.md, "Script text reaches the user bounded and visible").
+void require_shown_safely(const std::string& text, const char* what) {
+    fuzz_require(text.size() <= printable_text_max_bytes(shown_message_limit),
+                 (std::string(what) + " is bounded").c_str());
+    fuzz_require(printable_text(text, text.size() + 1) == text,
+                 (std::string(what) + " holds no control or escape character").c_str());
+}
+
 }  // namespace
 
 int fuzz_one(const std::uint8_t* data, std::size_t size) {
@@ -109,9 +119,11 @@ int fuzz_one(const std::uint8_t* data, std::size_t size) {
     SceneScript script;
     try {
         script = load_scene_script_in_process(path, settings);
-    } catch (const InputError&) {
+    } catch (const InputError& e) {
+        require_shown_safely(e.what(), "a refusal's message");
         return 0;
     }
+    for (const std::string& warning : script.warnings) require_shown_safely(warning, "a warning");
     if (!script.renders.empty()) render_first_job(script.renders.front());
     return 0;
 }
