@@ -76,9 +76,12 @@ void check_writable(const std::string& path, const RenderJob& job, bool from_com
                                                  : job.where.str() + ": gr.render: cannot write '" + path + "': ";
     std::filesystem::path dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
     std::error_code ec;
-    if (!std::filesystem::is_directory(dir))
-        throw std::runtime_error(prefix + (std::filesystem::exists(dir, ec) ? "'" + dir.string() + "' is not a folder"
-                                                                            : "folder '" + dir.string() + "' does not exist"));
+    const std::filesystem::file_status status = std::filesystem::status(dir, ec);
+    if (ec && ec != std::errc::no_such_file_or_directory)  // a symlink loop, a name too long, ...
+        throw std::runtime_error(prefix + "folder '" + dir.string() + "': " + ec.message());
+    if (!std::filesystem::is_directory(status))
+        throw std::runtime_error(prefix + (std::filesystem::exists(status) ? "'" + dir.string() + "' is not a folder"
+                                                                           : "folder '" + dir.string() + "' does not exist"));
     if (::access(dir.c_str(), W_OK) != 0)
         throw std::runtime_error(prefix + "folder '" + dir.string() + "' is not writable");
     if (const std::string problem = output_file_problem(path); !problem.empty()) throw std::runtime_error(prefix + problem);

@@ -120,3 +120,18 @@ TEST(ReproOutput, W1_OutputFlagIsTheUsersChoice) {
     EXPECT_TRUE(is_png(d.victim.parent_path() / "mine.png")) << o.describe();
     EXPECT_EQ(read_text(d.victim), "PRECIOUS-PHOTO");
 }
+
+TEST(ReproOutput, W1_AFolderSymlinkLoopIsRefusedNamingTheCall) {
+    // The folder cannot be resolved at all: an error naming the gr.render's line (the folder is the
+    // environment's: exit 1, as for a missing folder), not a bare file-system exception.
+    Download d("loopa/x.png");
+    fs::create_directory_symlink("loopb", d.here / "loopa");
+    fs::create_directory_symlink("loopa", d.here / "loopb");
+    const Tree before = snapshot(d.s.root());
+    const Outcome o = d.render();
+    EXPECT_EQ(o.exit_code, 1) << o.describe();
+    EXPECT_NE(o.err.find("scene.lua:3: gr.render: cannot write 'loopa/x.png': folder 'loopa': "), std::string::npos)
+        << o.describe();
+    EXPECT_EQ(o.err.find("filesystem error"), std::string::npos) << o.describe();
+    EXPECT_EQ(changes(before, snapshot(d.s.root())), std::vector<std::string>{}) << o.describe();
+}
