@@ -1,11 +1,15 @@
 #include "core/render/render_memory.h"
 
+#include "core/integrators/progressive_accumulator.h"
 #include "core/integrators/registry.h"
 #include "core/photons/caustic_stage.h"
 #include "core/photons/photon_tracer.h"
 #include "core/scene/source_location.h"
 
+#include <glm/vec3.hpp>
+
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -54,6 +58,27 @@ void charge_photon_maps(const RenderJob& job, std::vector<MemoryCharge>& out) {
         out.push_back(photon_map_charge(job, "caustic-num-photons", o.caustic_num_photons, lit));
 }
 
+/// The image the job renders: the session's float image and the copy its output is written
+/// from (12 bytes a pixel each) and, for an accumulation, its per-pixel sums (and a radius per
+/// pixel's factors and snapshots), charged to the gr.render.
+void charge_image(const RenderJob& job, std::vector<MemoryCharge>& out) {
+    const int r = job.options.resolution_override;
+    const double width = r ? r : job.width, height = r ? r : job.height;
+    double per_pixel = 2.0 * sizeof(glm::vec3);
+    if (job.options.accumulates()) {
+        per_pixel += ProgressiveAccumulator::sums_per_pixel * sizeof(std::int64_t);
+        if (job.options.adaptive_radius)
+            per_pixel += sizeof(float) + ProgressiveAccumulator::snapshot_slots * sizeof(std::int64_t);
+    }
+    MemoryCharge charge;
+    charge.bytes = width * height * per_pixel;
+    charge.where = job.where;
+    charge.call = "gr.render";
+    charge.what = "the " + std::to_string(static_cast<long long>(width)) + " x " +
+                  std::to_string(static_cast<long long>(height)) + " image";
+    out.push_back(std::move(charge));
+}
+
 std::string budget_text(const Options& o) {
     return "the renderer's memory budget of " + mebibytes(o.render_memory_bytes()) +
            (o.render_memory_mib > 0 ? std::string(" (--render-memory MiB raises it)")
@@ -65,6 +90,7 @@ std::string budget_text(const Options& o) {
 std::vector<MemoryCharge> render_memory_charges(const RenderJob& job, const FlatScene& flat) {
     std::vector<MemoryCharge> charges = scene_memory_charges(*job.scene, flat);
     charge_photon_maps(job, charges);
+    charge_image(job, charges);
     return charges;
 }
 

@@ -99,9 +99,11 @@ TEST(RenderMemory, AMeshIsChargedOnceByItsFormulaWhateverItsInstances) {
     EXPECT_EQ(placed[0].where.line, 8);
     EXPECT_GT(placed[0].bytes, 2.0 * embree_instance_bytes);
     EXPECT_LT(placed[0].bytes, 0.1 * mesh_bytes);
-    // The scene's own figure, for the photon stage's share of the budget, is the same sum.
+    // The scene's own figure, for the photon stage's share of the budget, is the sum of the
+    // scene's charges (the render's add its image).
     const RenderScene scene(*job.scene, flat);
-    EXPECT_DOUBLE_EQ(scene.info().estimated_bytes, total_bytes(charges));
+    EXPECT_DOUBLE_EQ(scene.info().estimated_bytes, total_bytes(scene_memory_charges(*job.scene, flat)));
+    expect_one_charge(charges, "the 16 x 16 image", 16.0 * 16.0 * 24.0, "gr.render", 13);
 }
 
 TEST(RenderMemory, PhotonMapsKnownBeforeTheBuildAreCharged) {
@@ -157,4 +159,29 @@ TEST(RenderMemory, AScriptCannotRaiseTheRendererBudget) {
     const std::string error = caustica::testing::load_error(path);
     EXPECT_NE(error.find("raise.lua:1: gr.option: --render-memory is for the command line only"), std::string::npos)
         << error;
+}
+
+TEST(RenderMemory, TheImageIsChargedToItsRender) {
+    // A 16384 x 16384 image is 6 GiB of floats before a single ray: refused at its gr.render under a
+    // budget it does not fit, with its accumulation's sums when the job accumulates passes.
+    RenderJob job = caustica::testing::load_first_job(strip_scene(10));
+    job.width = job.height = 4096;
+    const FlatScene flat = flatten_scene(job);
+    expect_one_charge(render_memory_charges(job, flat), "the 4096 x 4096 image", 4096.0 * 4096.0 * 24.0, "gr.render", 13);
+    job.apply_command_line({"--integrator", "progressive", "--passes", "8"});
+    expect_one_charge(render_memory_charges(job, flat), "the 4096 x 4096 image", 4096.0 * 4096.0 * (24.0 + 200.0),
+                      "gr.render", 13);
+    job.options.render_memory_mib = 64;
+    RenderSession session;
+    session.set_job(job);
+    std::string message = "(no error)";
+    try {
+        session.prepare();
+    } catch (const InputError& e) {
+        message = e.what();
+    }
+    EXPECT_NE(message.find("scene.lua:13: gr.render: the 4096 x 4096 image would take 3584.0 MiB once built"),
+              std::string::npos)
+        << message;
+    EXPECT_EQ(session.stage_counters().scene_builds, 0);
 }
