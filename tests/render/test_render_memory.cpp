@@ -84,6 +84,16 @@ double strip_mesh_bytes(int triangles) {
     return triangles * (12.0 + 12.0 + 32.0 + 1.2 * 176.0 / 4.0 + 256.0 / 32.0) + 3.0 * triangles * (12.0 + 12.0);
 }
 
+/// The error session.prepare() refuses the job with, or "(no error)".
+std::string prepare_error(RenderSession& session) {
+    try {
+        session.prepare();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
 }  // namespace
 
 TEST(RenderMemory, AMeshIsChargedOnceByItsFormulaWhateverItsInstances) {
@@ -127,12 +137,7 @@ TEST(RenderMemory, ASceneOverTheBudgetIsRefusedBeforeAnythingIsBuilt) {
     job.options.render_memory_mib = 1;
     RenderSession session;
     session.set_job(job);
-    std::string message = "(no error)";
-    try {
-        session.prepare();
-    } catch (const InputError& e) {
-        message = e.what();
-    }
+    const std::string message = prepare_error(session);
     EXPECT_NE(message.find("scene.lua:8: gr.mesh: the mesh (20000 triangles, 60000 vertices) would take " +
                            mebibytes(strip_mesh_bytes(triangles)) + " once built"),
               std::string::npos)
@@ -174,12 +179,7 @@ TEST(RenderMemory, TheImageIsChargedToItsRender) {
     job.options.render_memory_mib = 64;
     RenderSession session;
     session.set_job(job);
-    std::string message = "(no error)";
-    try {
-        session.prepare();
-    } catch (const InputError& e) {
-        message = e.what();
-    }
+    const std::string message = prepare_error(session);
     EXPECT_NE(message.find("scene.lua:13: gr.render: the 4096 x 4096 image would take 3584.0 MiB once built"),
               std::string::npos)
         << message;
