@@ -39,63 +39,11 @@ bool parse_camera(const std::string& text, CameraDesc& camera) {
     return glm::length(camera.view) > 0.0 && glm::length(camera.up) > 0.0 && v[9] > 0.0 && v[9] < 180.0;
 }
 
-/// A field of the bookmarks file: tab, line breaks and backslash written as \t \n \r \\ so that
-/// any scene path stays on its line.
-std::string escape_field(const std::string& text) {
-    std::string out;
-    for (const char c : text) {
-        if (c == '\\') out += "\\\\";
-        else if (c == '\t') out += "\\t";
-        else if (c == '\n') out += "\\n";
-        else if (c == '\r') out += "\\r";
-        else out += c;
-    }
-    return out;
-}
-
-std::string unescape_field(const std::string& text) {
-    std::string out;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        if (text[i] != '\\' || i + 1 == text.size()) {
-            out += text[i];
-            continue;
-        }
-        const char next = text[i + 1];
-        if (next == '\\') out += '\\';
-        else if (next == 't') out += '\t';
-        else if (next == 'n') out += '\n';
-        else if (next == 'r') out += '\r';
-        else {
-            out += '\\';  // not an escape we write: keep it as it is
-            continue;
-        }
-        ++i;
-    }
-    return out;
-}
-
 /// One line of the bookmarks file, without its line break.
 std::string bookmark_line(const std::string& scene, const std::string& name, const CameraDesc& c) {
     return escape_field(scene) + '\t' + escape_field(name) + '\t' + number(c.eye.x) + ' ' + number(c.eye.y) + ' ' +
            number(c.eye.z) + ' ' + number(c.view.x) + ' ' + number(c.view.y) + ' ' + number(c.view.z) + ' ' +
            number(c.up.x) + ' ' + number(c.up.y) + ' ' + number(c.up.z) + ' ' + number(c.fovy_degrees);
-}
-
-/// Which of `lines` (oldest first) to keep so that, with a line break each, they fill at most
-/// `limit` bytes: from the newest back, each line that still fits; `dropped` counts the others.
-std::vector<bool> newest_that_fit(const std::vector<std::string>& lines, std::size_t limit, std::size_t& dropped) {
-    std::vector<bool> kept(lines.size(), false);
-    std::size_t size = 0;
-    dropped = 0;
-    for (std::size_t i = lines.size(); i-- > 0;) {
-        if (size + lines[i].size() + 1 <= limit) {
-            size += lines[i].size() + 1;
-            kept[i] = true;
-        } else {
-            ++dropped;
-        }
-    }
-    return kept;
 }
 
 /// `warning` followed by `more` ("; " between them when both are there).
@@ -224,21 +172,13 @@ void CameraBookmarks::write() {
     std::vector<std::string> lines;
     lines.reserve(entries_.size());
     for (const Entry& e : entries_) lines.push_back(e.raw.empty() ? bookmark_line(e.scene, e.name, e.camera) : e.raw);
-    std::size_t dropped = 0;
-    const std::vector<bool> kept = newest_that_fit(lines, bookmarks_write_limit, dropped);
-    std::string text;
-    std::vector<Entry> entries;
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-        if (!kept[i]) continue;
-        text += lines[i] + '\n';
-        entries.push_back(std::move(entries_[i]));
-    }
-    entries_ = std::move(entries);
-    if (const std::string problem = write_atomically(file_, text); !problem.empty()) {
-        warning_ = file_ + ": cannot write the camera bookmarks (" + problem + ")";
+    const LinesWritten written = write_newest_lines(file_, lines, bookmarks_write_limit);
+    keep_flagged(entries_, written.kept);
+    if (!written.problem.empty()) {
+        warning_ = file_ + ": cannot write the camera bookmarks (" + written.problem + ")";
         return;
     }
-    if (dropped > 0)
+    if (const std::size_t dropped = written.dropped; dropped > 0)
         add_warning(warning_, file_ + ": " + std::to_string(dropped) + " line" + (dropped == 1 ? "" : "s") +
                                   " dropped to keep the file within " + std::to_string(bookmarks_write_limit >> 10) +
                                   " KiB (the oldest go first)");

@@ -134,7 +134,8 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     }
     hint("classic: the original renderer's rules (docs/CAUSTICS.md, rule by rule); progressive: our photon mapper, "
          "refining pass after pass until paused or a stopping rule. Switching re-shoots photons and re-renders, "
-         "keeps the BVH");
+         "keeps the BVH. Your pick is kept for this scene: it opens with it next time (a --integrator given for "
+         "it on the command line wins; the reset under Differs from the scene forgets it)");
     if (integrator_entry(k.integrator).accumulates && integrator_entry(model.knobs().integrator).accumulates)
         draw_refinement_controls(model, state);
 

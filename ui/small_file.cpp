@@ -115,6 +115,59 @@ std::string write_atomically(const std::string& file, const std::string& text) {
     return problem;
 }
 
+std::string escape_field(const std::string& text) {
+    std::string out;
+    for (const char c : text) {
+        if (c == '\\') out += "\\\\";
+        else if (c == '\t') out += "\\t";
+        else if (c == '\n') out += "\\n";
+        else if (c == '\r') out += "\\r";
+        else out += c;
+    }
+    return out;
+}
+
+std::string unescape_field(const std::string& text) {
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (text[i] != '\\' || i + 1 == text.size()) {
+            out += text[i];
+            continue;
+        }
+        const char next = text[i + 1];
+        if (next == '\\') out += '\\';
+        else if (next == 't') out += '\t';
+        else if (next == 'n') out += '\n';
+        else if (next == 'r') out += '\r';
+        else {
+            out += '\\';  // not an escape we write: keep it as it is
+            continue;
+        }
+        ++i;
+    }
+    return out;
+}
+
+LinesWritten write_newest_lines(const std::string& file, const std::vector<std::string>& lines, std::size_t limit) {
+    LinesWritten written;
+    written.kept.assign(lines.size(), false);
+    std::size_t size = 0;
+    for (std::size_t i = lines.size(); i-- > 0;) {
+        if (size + lines[i].size() + 1 <= limit) {
+            size += lines[i].size() + 1;
+            written.kept[i] = true;
+        } else {
+            ++written.dropped;
+        }
+    }
+    std::string text;
+    text.reserve(size);
+    for (std::size_t i = 0; i < lines.size(); ++i)
+        if (written.kept[i]) text.append(lines[i]).push_back('\n');
+    written.problem = write_atomically(file, text);
+    return written;
+}
+
 FileLock::FileLock(const std::string& lock_file, double wait_seconds) {
     create_folder_of(lock_file);
     // O_NOFOLLOW: a symlink planted as the lock file is refused rather than created through.

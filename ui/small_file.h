@@ -1,10 +1,12 @@
-// The small files the preview keeps between runs (the recent scenes list, the camera bookmarks):
-// read only when they are small regular files, replaced atomically, and changed under an advisory
-// lock when several previews share them.
+// The small files the preview keeps between runs (the recent scenes list, the camera bookmarks,
+// the integrator chosen per scene): read only when they are small regular files, replaced
+// atomically, and changed under an advisory lock when several previews share them.
 #pragma once
 
 #include <cstddef>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace caustica::ui {
 
@@ -32,6 +34,35 @@ SmallFile read_small_file(const std::string& path, std::size_t limit, OverLimit 
 /// so two previews never share one) renamed over it: a reader sees the old file or the new one.
 /// The folder is created if missing. "" on success, else why not.
 std::string write_atomically(const std::string& file, const std::string& text);
+
+/// A field of a tab-separated line: tab, line breaks and backslash written as \t \n \r \\ so that
+/// any text (a scene path) stays on its line and in its field.
+std::string escape_field(const std::string& text);
+/// The text of a field escape_field wrote (a backslash that starts no escape stays as it is).
+std::string unescape_field(const std::string& text);
+
+/// What write_newest_lines wrote.
+struct LinesWritten {
+    std::vector<bool> kept;   ///< per line: whether it is in the file
+    std::size_t dropped = 0;  ///< the lines left out
+    std::string problem;      ///< why the file could not be written ("" = written)
+};
+
+/// Writes `lines` (oldest first, each without its line break) to `file` with write_atomically,
+/// keeping it within `limit` bytes: from the newest back, each line that still fits.
+LinesWritten write_newest_lines(const std::string& file, const std::vector<std::string>& lines, std::size_t limit);
+
+/// Keeps the elements of `items` whose flag in `kept` is set (write_newest_lines' `kept`), in order.
+template <class T>
+void keep_flagged(std::vector<T>& items, const std::vector<bool>& kept) {
+    std::size_t next = 0;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        if (!kept[i]) continue;
+        if (next != i) items[next] = std::move(items[i]);  // never moved onto itself
+        ++next;
+    }
+    items.resize(next);
+}
 
 /// An exclusive advisory lock (flock) on a lock file, held while the object lives: it makes the
 /// read, change and atomic rewrite of a file that several previews share one step, so that no

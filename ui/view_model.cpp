@@ -30,7 +30,8 @@ ViewModel::ViewModel(ModelConfig config)
     : config_(std::move(config)),
       source_(load_settings(config_), config_.recent_file),
       driver_(config_.driver),
-      bookmarks_(bookmarks_file_beside(config_.recent_file)) {}
+      bookmarks_(bookmarks_file_beside(config_.recent_file)),
+      integrators_(integrator_memory_beside(config_.recent_file)) {}
 
 ViewModel::~ViewModel() {
     if (overlay_trace_.valid()) overlay_trace_.wait();
@@ -67,6 +68,7 @@ std::vector<std::string> ViewModel::warnings() const {
     if (scene_)
         for (const std::string& w : scene_->warnings) all.push_back(printable_text(w));
     for (const std::string& w : driver_.session().warnings()) all.push_back(printable_text(w));
+    if (!integrators_.warning().empty()) all.push_back(printable_text(integrators_.warning()));
     return all;
 }
 
@@ -86,6 +88,7 @@ void ViewModel::install(LoadedScene loaded) {
         inputs_.render_index = 0;
         inputs_.tokens = tokens_of(scene_path_);  // the view's options belong to the scene they were given for
         forget_choices();  // another scene starts as `caustica render` renders it (its own knobs and scales)
+        recall_integrator();  // but with the integrator the person picked for it before
         if (!scheduled_save_.empty()) {  // it was meant for the previous scene's image
             scheduled_result_ = SaveResult{SaveOutcome::failed, scheduled_save_ + " not saved: another scene was opened"};
             scheduled_save_.clear();
@@ -209,6 +212,7 @@ void ViewModel::update() {
     } else if (running_inputs_ && driver_.has_job() && (driver_.progress().prepared || driver_.progress().finished)) {
         committed_inputs_ = running_inputs_;  // prepared without error (photons included)
     }
+    remember_integrator();
     resolve_target();
     update_overlay();
     if (!scheduled_save_.empty() && driver_.has_job() && !rendering()) {

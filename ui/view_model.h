@@ -14,6 +14,7 @@
 #include "core/scene/orbit_camera.h"
 #include "ui/camera_bookmarks.h"
 #include "ui/caustic_knobs.h"
+#include "ui/integrator_memory.h"
 #include "ui/overlay_geometry.h"
 #include "ui/preview_driver.h"
 #include "ui/save_image.h"
@@ -282,6 +283,12 @@ public:
     CameraBookmarks& bookmarks() { return bookmarks_; }
     const CameraBookmarks& bookmarks() const { return bookmarks_; }
 
+    // --- the integrator picked per scene (docs/PREVIEW.md, "What you see is what you save")
+    /// Whether the integrator shown is the person's pick for this scene, kept for the next time it
+    /// is opened (here or in a later run); like any pick it is listed as a difference and carried
+    /// by the command line.
+    bool integrator_kept() const;
+
     /// Test hook: how often the session rebuilt the scene, shot photons and rendered.
     RenderSession::StageCounters stage_counters() const { return driver_.session().stage_counters(); }
 
@@ -316,6 +323,8 @@ private:
     void forget_choices();  // another scene: start clean
     void update_a4_hint();
     std::vector<std::string>& tokens_of(const std::string& path);
+    void recall_integrator();       // a scene opened: the person's integrator for it, unless its command line sets one
+    void remember_integrator();     // after a change: keeps the person's integrator for the scene (or forgets it)
 
     ModelConfig config_;
     SceneSource source_;
@@ -335,6 +344,10 @@ private:
     bool scheduled_overwrite_ = false;
     std::optional<SaveResult> scheduled_result_;
     CameraBookmarks bookmarks_;
+    IntegratorMemory integrators_;
+    /// The scene and the integrator the memory holds for it as this model last read or wrote it.
+    std::string remembered_scene_;
+    std::optional<IntegratorKind> remembered_integrator_;
     OrbitCamera orbit_;
     bool target_known_ = false;
     std::optional<glm::dvec2> pending_orbit_;

@@ -147,6 +147,22 @@ TEST_F(Cli, CommandLineWinsOverGrOption) {
     EXPECT_EQ(caustica::read_png((dir_ / "out.png").string()).width, 256);
 }
 
+TEST_F(Cli, AProjectSceneChoosesItsIntegratorWithGrOptionAndTheCommandLineWins) {
+    // scenes/glass_of_liquid.lua sets --integrator progressive with gr.option (its shadow caustic);
+    // a --integrator on the command line wins over it, as over any gr.option.
+    const std::string scene = "'" CAUSTICA_SOURCE_DIR "/scenes/glass_of_liquid.lua'";
+    auto integrator_of = [&](const std::string& name) {
+        for (const auto& [key, value] : caustica::read_png((dir_ / name).string()).text)
+            if (key == "caustica:integrator") return value;
+        return std::string("(missing)");
+    };
+    const std::string small = "render -s --minres --threads 2 --caustic-num-photons 100000 ";
+    ASSERT_EQ(run(small + scene + " -o own.png").code, 0);
+    EXPECT_EQ(integrator_of("own.png"), "progressive");
+    ASSERT_EQ(run(small + "--integrator classic " + scene + " -o classic.png").code, 0);
+    EXPECT_EQ(integrator_of("classic.png"), "classic");
+}
+
 TEST_F(Cli, MissingSceneFile) {
     const Result r = run("render nothere.lua");
     EXPECT_EQ(r.code, 2);
