@@ -43,7 +43,7 @@ void status_line(const ViewModel& model, float scale) {
             const SessionProgress& a = driver.accumulation();
             if (a.accumulating) ImGui::TextUnformatted(refinement_summary(a).c_str());
         } else {
-            const double done = p.tiles_total ? 100.0 * p.tiles_done / p.tiles_total : 0.0;
+            const double done = 100.0 * render_fraction(p);
             ImGui::Text("%s  %d x %d%s  %s %3.0f%%  %.2f s", name.c_str(), driver.job().width, driver.job().height,
                         magnification(scale).c_str(), what.c_str(), done, p.elapsed_seconds);
         }

@@ -53,10 +53,7 @@ std::string render_state(const ViewModel& model) {
     const PreviewDriver& driver = model.driver();
     const SessionProgress& p = driver.progress();
     if (model.paused()) return driver.busy() ? "pausing" : "paused";
-    if (p.running) {
-        if (p.stage == "progressive passes") return "refining";
-        return p.stage.empty() ? "starting" : p.stage;
-    }
+    if (p.running) return running_stage(p);
     if (p.finished) {
         const SessionProgress& a = driver.accumulation();
         return a.accumulating && !a.stopped_by.empty() ? "stopped by " + stop_reason(a.stopped_by) : "done";

@@ -287,6 +287,19 @@ std::string stop_reason(const std::string& stopped_by) {
     return stopped_by;
 }
 
+std::string running_stage(const SessionProgress& progress) {
+    if (progress.stage == "progressive passes") return "refining";
+    if (progress.stage == "shooting photons" && progress.showing_direct_light) return "direct light; shooting photons";
+    return progress.stage.empty() ? "starting" : progress.stage;
+}
+
+double render_fraction(const SessionProgress& progress) {
+    auto share = [](double done, double total) { return total > 0.0 ? std::min(1.0, done / total) : 0.0; };
+    if (progress.running && progress.stage == "shooting photons")  // 0 until the stage knows its total
+        return share(static_cast<double>(progress.photons_done), static_cast<double>(progress.photons_total));
+    return share(static_cast<double>(progress.tiles_done), static_cast<double>(progress.tiles_total));
+}
+
 bool same_projection_maps(const std::vector<LightProjectionMap>& a, const std::vector<LightProjectionMap>& b) {
     if (a.size() != b.size()) return false;
     for (std::size_t i = 0; i < a.size(); ++i) {

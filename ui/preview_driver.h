@@ -198,6 +198,14 @@ private:
 /// Why an accumulation stopped (SessionProgress::stopped_by), in words: "the pass limit", ...
 std::string stop_reason(const std::string& stopped_by);
 
+/// What a running render does, in words: its stage, "refining" for progressive passes, and
+/// "direct light; shooting photons" while a direct-light pass stands in for the image.
+std::string running_stage(const SessionProgress& progress);
+
+/// How far a render is, 0 to 1: during its photon stage, the photon directions shot (0 while the
+/// stage does not count them); else the tiles of its image passes.
+double render_fraction(const SessionProgress& progress);
+
 /// Whether two projection maps have the same cells and light.
 bool same_projection_maps(const std::vector<LightProjectionMap>& a, const std::vector<LightProjectionMap>& b);
 

@@ -28,6 +28,7 @@ std::string format_number(const char* format, double value) {
 std::string passes_done(const SessionProgress& p) {
     if (p.accumulating) return std::to_string(p.passes_done);
     if (p.finished) return "complete";
+    if (p.showing_direct_light) return "direct light only (" + p.stage + " under way)";
     const std::size_t per_pass = p.passes > 0 ? p.tiles_total / static_cast<std::size_t>(p.passes) : 0;
     const std::size_t whole = per_pass > 0 ? p.tiles_done / per_pass : 0;
     return std::to_string(whole) + " of " + std::to_string(p.passes) + " passes (" + p.stage + " under way)";

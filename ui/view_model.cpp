@@ -319,6 +319,7 @@ std::string ViewModel::passes_text() const {
     }
     const SessionProgress& p = driver_.progress();
     if (p.finished) return "complete";
+    if (p.showing_direct_light) return "direct light only, photons still being shot";
     const int tiles = p.tiles_total > 0 ? static_cast<int>(100.0 * p.tiles_done / p.tiles_total) : 0;
     return "pass " + std::to_string(std::min(p.pass + 1, std::max(1, p.passes))) + " of " +
            std::to_string(std::max(1, p.passes)) + ", " + std::to_string(tiles) + "% of its tiles";

@@ -19,7 +19,7 @@ std::unique_ptr<Integrator> make(const ShadingSetup& setup, const Options& optio
 
 void build_classic_photons(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                            const PhotonStageInputs& in) {
-    build_classic_photon_stage(stage, scene, job, in.cancel, in.textures, in.cluster);
+    build_classic_photon_stage(stage, scene, job, in.cancel, in.textures, in.cluster, in.progress);
 }
 
 glm::vec3 classic_readout(const PhotonMap& map, const glm::vec3& p, const glm::vec3&, const glm::vec3&,
@@ -58,7 +58,7 @@ glm::vec3 progressive_readout(const PhotonMap& map, const glm::vec3& p, const gl
 const std::vector<IntegratorEntry>& integrator_entries() {
     static const std::vector<IntegratorEntry> entries = {
         {IntegratorKind::classic, "classic", false, true, make<ClassicIntegrator, ClassicParams>, classic_photons_wanted,
-         build_classic_photons, nullptr, nullptr, classic_readout},
+         build_classic_photons, classic_photon_directions, nullptr, classic_readout},
         {IntegratorKind::progressive, "progressive", true, false, make<ProgressiveIntegrator, ProgressiveParams>,
          progressive_photons_wanted, build_progressive_photons, progressive_directions, progressive_loop,
          progressive_readout},

@@ -39,7 +39,8 @@ std::uint64_t stage_seed(const Options& o) {
 void build_progressive_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                              const std::atomic<bool>* cancel, const PhotonPassExtras& extras);
 void build_classic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster);
+                         const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster,
+                         std::atomic<long long>* progress);
 
 }  // namespace
 
@@ -81,8 +82,20 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
 }
 
 void build_classic_photon_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                                const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster) {
-    build_classic_stage(stage, scene, job, cancel, textures, cluster && cluster->size() > 1 ? cluster : nullptr);
+                                const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster,
+                                std::atomic<long long>* progress) {
+    build_classic_stage(stage, scene, job, cancel, textures, cluster && cluster->size() > 1 ? cluster : nullptr,
+                        progress);
+}
+
+long long classic_photon_directions(const RenderJob& job) {
+    const Options& o = job.options;
+    // As build_classic_stage asks shoot_classic_photons: N of each map wanted, every light with c2 > 0.
+    const long long per_light = (caustic_map_wanted(job) ? classic_photons_offered(o.caustic_num_photons) : 0) +
+                                (gi_map_wanted(job) ? classic_photons_offered(o.gi_num_photons) : 0);
+    long long shooting = 0;
+    for (const Light& light : job_lights(job)) shooting += light.falloff.z > 0.0f ? 1 : 0;
+    return per_light * shooting;
 }
 
 void build_progressive_pass(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
@@ -272,7 +285,8 @@ ClassicPhotonResult gather_classic_photons(Cluster& cluster, ClassicPhotonResult
 }
 
 void build_classic_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                         const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster) {
+                         const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster,
+                         std::atomic<long long>* progress) {
     const Options& o = job.options;
     stage = CausticStage{};
     stage.key = caustic_fingerprint(job, 0);
@@ -299,6 +313,7 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
     settings.build_projection_maps = caustic_map_wanted(job) && o.show_projection_map;
     settings.seed = stage_seed(o);
     settings.memory_budget_bytes = photon_memory_left(job, scene);
+    settings.progress = progress;
     ClassicPhotonResult pass;
     if (!cluster) {
         pass = shoot_classic_photons(scene, textures, lights, settings, cancel);

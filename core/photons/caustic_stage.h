@@ -62,9 +62,15 @@ struct CausticStage {
 /// texture, the stage loads its own. With a `cluster` of several ranks (every rank calls it), each
 /// rank shoots its share of the emission blocks and the shares are gathered: every rank then holds
 /// the maps one process builds, bit for bit. A failure on any rank throws ClusterError on every
-/// rank.
+/// rank. `progress` (may be null) counts the directions this rank's cells offer, up to
+/// classic_photon_directions(job) alone.
 void build_classic_photon_stage(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
-                                const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster);
+                                const std::atomic<bool>* cancel, const TextureSet* textures, Cluster* cluster,
+                                std::atomic<long long>* progress = nullptr);
+
+/// The photon directions the classic stage of a job considers, both maps and every light that
+/// shoots photons (one with quadratic falloff): the total its progress counts up to.
+long long classic_photon_directions(const RenderJob& job);
 
 /// What a progressive photon pass adds to the job.
 struct PhotonPassExtras {

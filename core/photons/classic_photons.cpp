@@ -17,7 +17,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
+#include <utility>
 
 namespace caustica {
 namespace {
@@ -239,7 +241,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 void shoot_light(const RenderScene& scene, const TextureSet* textures, const Light& light, std::size_t l,
                  ClassicMapKind kind, long long requested, const glm::vec3& energy, const ProjectionMap* map,
                  std::uint64_t seed, const std::atomic<bool>* cancel, int share_rank, int share_size,
-                 std::vector<Photon>& out, std::uint32_t* block_counts, LightPhotonReport& report) {
+                 std::atomic<long long>* progress, std::vector<Photon>& out, std::uint32_t* block_counts,
+                 LightPhotonReport& report) {
     std::vector<std::vector<Photon>> stored(emission_blocks);
     std::vector<long long> offered(emission_blocks, 0), traced(emission_blocks, 0);
     caustica::parallel_for(tbb::blocked_range<int>(0, emission_blocks, 1), [&](const tbb::blocked_range<int>& range) {
@@ -270,6 +273,7 @@ void shoot_light(const RenderScene& scene, const TextureSet* textures, const Lig
                 }
             };
             visit_block(block, visit);
+            if (progress) progress->fetch_add(offered[block], std::memory_order_relaxed);
         }
     });
     for (int block = 0; block < emission_blocks; ++block) {
@@ -294,8 +298,10 @@ void classic_emission_cell(long long cell, glm::dvec3& a, glm::dvec3& b, glm::dv
     a = glm::normalize(a), b = glm::normalize(b), c = glm::normalize(c);
 }
 
-long long classic_photons_offered(long long requested) {
-    if (requested <= 0) return 0;
+namespace {
+
+/// classic_photons_offered without its cache: a walk over every cell.
+long long sum_offered(long long requested) {
     return caustica::parallel_reduce(
         tbb::blocked_range<int>(0, emission_blocks, 1), 0LL,
         [&](const tbb::blocked_range<int>& range, long long sum) {
@@ -306,6 +312,26 @@ long long classic_photons_offered(long long requested) {
             return sum;
         },
         [](long long x, long long y) { return x + y; });
+}
+
+}  // namespace
+
+long long classic_photons_offered(long long requested) {
+    if (requested <= 0) return 0;
+    // A few (requested, offered) pairs, replaced oldest first; the sum is computed outside the lock.
+    static std::mutex mutex;
+    static std::array<std::pair<long long, long long>, 4> recent{};
+    static std::size_t next = 0;
+    {
+        std::lock_guard lock(mutex);
+        for (const auto& [asked, offered] : recent)
+            if (asked == requested) return offered;
+    }
+    const long long offered = sum_offered(requested);
+    std::lock_guard lock(mutex);
+    recent[next] = {requested, offered};
+    next = (next + 1) % recent.size();
+    return offered;
 }
 
 glm::vec3 classic_diffuse_direction(const glm::vec3& incoming, const glm::vec3& normal, float u1, float u2) {
@@ -423,7 +449,7 @@ ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const Textur
             const auto t0 = std::chrono::steady_clock::now();
             const glm::vec3 energy = photon_energy(light, settings.unit_distance, settings.caustic_photons, settings.energy_fudge);
             shoot_light(scene, textures, light, l, ClassicMapKind::caustic, settings.caustic_photons, energy, map,
-                        settings.seed, cancel, share_rank, share_size, result.caustic,
+                        settings.seed, cancel, share_rank, share_size, settings.progress, result.caustic,
                         &result.caustic_blocks[l * emission_blocks], caustic);
             caustic.shoot_seconds = seconds_since(t0);
         }
@@ -434,8 +460,8 @@ ClassicPhotonResult shoot_classic_photons(const RenderScene& scene, const Textur
             const auto t0 = std::chrono::steady_clock::now();
             const glm::vec3 energy = photon_energy(light, settings.unit_distance, settings.gi_photons, settings.energy_fudge);
             shoot_light(scene, textures, light, l, ClassicMapKind::gi, settings.gi_photons, energy, nullptr,
-                        settings.seed, cancel, share_rank, share_size, result.gi, &result.gi_blocks[l * emission_blocks],
-                        gi);
+                        settings.seed, cancel, share_rank, share_size, settings.progress, result.gi,
+                        &result.gi_blocks[l * emission_blocks], gi);
             gi.shoot_seconds = seconds_since(t0);
         }
     }

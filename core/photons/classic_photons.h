@@ -57,6 +57,9 @@ struct ClassicPhotonSettings {
     /// b % share_size == share_rank; merge_classic_photons puts the ranks' photons back in one
     /// process's order.
     int share_rank = 0, share_size = 1;
+    /// Counts the directions the cells offer (classic_photons_offered), a block at a time as its
+    /// photons are traced, over both maps and every light (null: not counted).
+    std::atomic<long long>* progress = nullptr;
 };
 
 /// The photons of both maps, the caustic projection maps and what happened per light.
@@ -94,7 +97,8 @@ ClassicPhotonShare share_of(const ClassicPhotonResult& result);
 ClassicPhotonResult merge_classic_photons(const std::vector<ClassicPhotonShare>& shares);
 
 /// Photons the cell scheme shoots for N requested: the sum over the 1 310 720 cells of
-/// floor(N a_T), a_T the cell's solid angle over 4 pi (7 055 360 at N = 8 000 000).
+/// floor(N a_T), a_T the cell's solid angle over 4 pi (7 055 360 at N = 8 000 000). The last few
+/// answers are kept: a progress bar asks for the total before the pass asks again.
 long long classic_photons_offered(long long requested);
 
 /// The three unit vertices of emission cell `cell` (0 <= cell < classic_emission_cells): its

@@ -251,9 +251,10 @@ void RenderSession::run() {
             }
             prepare_checked_scene();
             if (cancel_requested_) return;
-            // An accumulating preview shows direct light at once: a coarse pass before photons
-            // that are not cached yet are shot.
-            direct_first_ = coarse_preview_ && job_.options.accumulates() && !(loop_ && loop_->resumable()) && caustic_key_ != 0 &&
+            // A preview shows direct light at once, whichever the integrator: a coarse pass before
+            // photons that are not cached yet are shot (docs/PREVIEW.md, "While photons are shot").
+            // Batch renders have no coarse pass, so their images never depend on it.
+            direct_first_ = coarse_preview_ && !(loop_ && loop_->resumable()) && caustic_key_ != 0 &&
                             !(caustics_ && caustics_->key == caustic_key_);
             if (direct_first_) render_direct_preview(arena);
             if (cancel_requested_) return;
@@ -262,6 +263,7 @@ void RenderSession::run() {
             {
                 std::lock_guard lock(mutex_);
                 progress_.prepared = true;
+                progress_.showing_direct_light = false;
             }
             render_passes(arena, threads);
         });
@@ -393,6 +395,8 @@ void RenderSession::render_direct_preview(tbb::task_arena& arena) {
     runner.run("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
         render_coarse_tile(context, tile, preview_block_, image_, c);
     });
+    std::lock_guard lock(mutex_);
+    progress_.showing_direct_light = !cancel_requested_;
 }
 
 void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
@@ -425,9 +429,10 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
             progress_.passes = (antialias ? 2 : 1) + (coarse_preview_ ? 1 : 0);
             progress_.tiles_total = tiles.size() * progress_.passes;
         }
-        int pass = 0;
-        if (coarse_preview_)
-            runner.run("preview", pass++, [&](std::size_t, const Tile& tile, RayCounters& c) {
+        // The coarse pass is pass 0; a direct-light preview shown before the photons took its place.
+        int pass = coarse_preview_ ? 1 : 0;
+        if (coarse_preview_ && !direct_first_)
+            runner.run("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
                 render_coarse_tile(context, tile, preview_block_, image_, c);
             });
         if (!cancel_requested_)

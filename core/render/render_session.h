@@ -58,6 +58,9 @@ struct SessionProgress {
     /// Every stage before the image passes (scene, photons) is built without error. A preview may
     /// show a direct-light pass before that (its tiles do not mean the job renders).
     bool prepared = false;
+    /// The image holds a coarse direct-light pass (no photon terms) while the photons of this render
+    /// are shot; false again once its photon stage is done.
+    bool showing_direct_light = false;
     std::string stage;       ///< what is being done now
     /// Progressive accumulation (Options::accumulates()): passes averaged so far, their limit
     /// (0 = none), photon directions over all passes, mean samples per pixel, the radius of the
@@ -190,7 +193,7 @@ private:
     void publish_caustic_stats();  // under mutex_
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
     ShadingSetup make_setup() const;  // everything the integrator needs but the photon maps
-    void render_direct_preview(tbb::task_arena& arena);  // a coarse pass before photons are shot
+    void render_direct_preview(tbb::task_arena& arena);  // a coarse direct-light pass before photons are shot
     void set_stage(const char* name);
     void add_stage_time(const std::string& name, double seconds);  // under mutex_
     void warn_once(const std::string& warning);

@@ -2,6 +2,7 @@
 // changes while rendering, no stale tile ever shown, no growth in memory, and picking from another
 // thread. Small and GL-free, so that CI also runs it under ThreadSanitizer (session_tests).
 #include "ui/preview_driver.h"
+#include "core/photons/classic_photons.h"
 #include "core/util/sanitized.h"
 
 #include "tests/test_support.h"
@@ -135,6 +136,12 @@ TEST_P(CancelDuringStage, ReturnsAtOnceStopsSoonAndTheNextRenderIsWhole) {
     const RenderJob job = b.build();
 
     RenderSession session;
+    if (stage == "preview") {
+        // Photons not cached yet are shot after a coarse direct-light pass, cached ones before the
+        // coarse pass: with them cached, the pass cut is the coarse pass and the photons stay.
+        session.set_job(job);
+        session.prepare();
+    }
     // The coarse preview of this scene in 4 x 4 blocks lasts about 3 ms (either integrator): a
     // poller descheduled that long under a loaded ctest never sees the stage. Blocks of one pixel
     // make it about 50 ms; each tile still takes well under a millisecond, so the stop bound is
@@ -444,6 +451,106 @@ TEST(PreviewDriver, ARenderErrorIsReportedOnceAndTheDriverGoesOn) {
     driver.request(b.build());
     while (!driver.finished() && seconds_since(t0) < caustica::testing::time_bound(20.0)) driver.update();
     EXPECT_TRUE(driver.finished());
+}
+
+/// The share of pixels with some light in them (any channel above 1/100).
+double lit_share(const Image& image) {
+    if (image.pixels.empty()) return 0.0;
+    const auto lit = std::count_if(image.pixels.begin(), image.pixels.end(), [](const glm::vec3& p) {
+        return p.x > 0.01f || p.y > 0.01f || p.z > 0.01f;
+    });
+    return static_cast<double>(lit) / static_cast<double>(image.pixels.size());
+}
+
+/// What a classic render in the driver showed while its photons were shot.
+struct PhotonStageWatch {
+    bool direct_light_shown = false;  ///< a lit image was on screen during the photon stage
+    std::string label;                ///< the status's words for the stage then
+    std::vector<double> fractions;    ///< render_fraction() over the photon stage, in order
+    double darkest = 1.0;             ///< the least lit share of the image shown at any update
+    bool photons_shot = false;        ///< the photon stage was seen at all
+};
+
+/// Updates the driver until its render finishes, watching the photon stage. The session's
+/// progress is read after each update's copy: a copy made while the session is still shooting
+/// photons holds only tiles published before the photon stage ended.
+PhotonStageWatch watch_until_finished(PreviewDriver& driver, double seconds) {
+    PhotonStageWatch watch;
+    const auto t0 = clock_type::now();
+    while (!driver.finished() && seconds_since(t0) < seconds) {
+        driver.update();
+        const SessionProgress now = driver.session().progress();
+        if (now.running && now.stage == "shooting photons") {
+            watch.photons_shot = true;
+            watch.fractions.push_back(render_fraction(now));
+            if (!watch.direct_light_shown && now.showing_direct_light && lit_share(driver.image()) > 0.0) {
+                watch.direct_light_shown = true;
+                watch.label = running_stage(now);
+            }
+        }
+        if (driver.has_job() && !driver.image().pixels.empty())
+            watch.darkest = std::min(watch.darkest, lit_share(driver.image()));
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    return watch;
+}
+
+TEST(PreviewDriver, ClassicShowsDirectLightWhilePhotonsAreShotThenTheBatchImage) {
+    JobBuilder b = lit_scene(128, 96);
+    b.job.ambient = {0.0, 0.0, 0.0};
+    b.job.miss_colour = {0.0, 0.0, 0.0};  // a pixel with light in it was lit by the light
+    const long long photons = 600'000 / (work_divisor * work_divisor);
+    b.job.options.caustic_num_photons = photons;
+    b.job.options.projection_map = ProjectionMapMode::off;  // every photon traced: a stage to watch
+    RenderJob job = b.build();
+    ASSERT_EQ(job.options.integrator, IntegratorKind::classic);
+
+    PreviewDriver driver;
+    driver.request(job);
+    const PhotonStageWatch launch = watch_until_finished(driver, caustica::testing::time_bound(60.0));
+    ASSERT_TRUE(driver.finished());
+    ASSERT_TRUE(launch.photons_shot);
+    // The first image came while the photons were shot: direct light, labelled as such.
+    EXPECT_TRUE(launch.direct_light_shown);
+    EXPECT_EQ(launch.label, "direct light; shooting photons");
+    // The photon progress counts every direction the cells offer, rising from 0 to 1.
+    const SessionProgress end = driver.session().progress();
+    EXPECT_EQ(end.photons_total, classic_photons_offered(photons));
+    EXPECT_EQ(end.photons_done, end.photons_total);
+    EXPECT_FALSE(end.showing_direct_light);
+    EXPECT_TRUE(std::is_sorted(launch.fractions.begin(), launch.fractions.end()));
+    const auto under_way = [](double f) { return f > 0.0 && f < 1.0; };
+    EXPECT_TRUE(std::any_of(launch.fractions.begin(), launch.fractions.end(), under_way))
+        << "no fraction between 0 and 1 in " << launch.fractions.size() << " updates";
+    // The direct-light pass never reaches the batch image: it is the batch render's, bit for bit.
+    RenderSession batch;
+    batch.set_job(job);
+    batch.start();
+    ASSERT_TRUE(batch.wait());
+    EXPECT_EQ(driver.image().pixels, batch.image().pixels);
+    const double final_lit = lit_share(batch.image());
+    ASSERT_GT(final_lit, 0.2);
+
+    // Another photon count: shot again with their progress, over a lit image all along.
+    job.options.caustic_num_photons = photons + photons / 4;
+    driver.request(job);
+    const PhotonStageWatch change = watch_until_finished(driver, caustica::testing::time_bound(60.0));
+    ASSERT_TRUE(driver.finished());
+    EXPECT_TRUE(change.photons_shot);
+    EXPECT_TRUE(change.direct_light_shown);
+    EXPECT_GT(change.darkest, 0.5 * final_lit) << "the image went dark while the photons were shot";
+    EXPECT_EQ(driver.session().progress().photons_total, classic_photons_offered(job.options.caustic_num_photons));
+    EXPECT_EQ(driver.session().stage_counters().photon_passes, 2);
+
+    // A camera move keeps the photons: no photon stage, no direct-light pass.
+    job.camera.eye.x += 0.2;
+    driver.request(job);
+    const PhotonStageWatch move = watch_until_finished(driver, caustica::testing::time_bound(60.0));
+    ASSERT_TRUE(driver.finished());
+    EXPECT_FALSE(move.photons_shot);
+    EXPECT_FALSE(driver.session().progress().showing_direct_light);
+    EXPECT_EQ(driver.session().stage_counters().photon_passes, 2);
+    EXPECT_FALSE(driver.take_error().has_value());
 }
 
 }  // namespace

@@ -279,6 +279,23 @@ TEST(ViewModel, SaveWritesThePngWithItsParametersAndAsksBeforeReplacing) {
     EXPECT_EQ(m.model.save(m.folder.file("saved.jpg"), false).outcome, SaveOutcome::failed);
 }
 
+TEST(ViewModel, SavingWhilePhotonsAreShotNamesTheDirectLightImage) {
+    // Photons enough that their stage lasts while the direct-light pass is on screen.
+    TempFolder folder;
+    ViewModel model{test_config()};
+    model.open(folder.write("scene.lua", caustic_box_text(20000000)));
+    const SessionProgress& p = model.driver().progress();
+    ASSERT_TRUE(run_until(model, [&] { return p.running && p.stage == "shooting photons" && p.showing_direct_light; }))
+        << model.error();
+    EXPECT_EQ(model.passes_text(), "direct light only, photons still being shot");
+    const std::string path = folder.file("direct.png");
+    const SaveResult r = model.save(path, false);
+    ASSERT_EQ(r.outcome, SaveOutcome::written) << r.message;
+    std::map<std::string, std::string> text;
+    for (const auto& [key, value] : read_png(path).text) text[key] = value;
+    EXPECT_EQ(text["caustica:passes"], "direct light only (shooting photons under way)");
+}
+
 TEST(ViewModel, SavingTheScriptsNameThroughASymlinkLeadingOutIsRefused) {
     // The scene names 'pics/holiday.png'; the folder the preview runs in holds pics -> ../victim, as
     // an archive restores it. Save proposes the script's name, which lands only inside the current
