@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <type_traits>
 
 namespace caustica::ui {
 namespace {
@@ -51,12 +52,12 @@ void overlay_settings(ViewModel& model, PanelState& state) {
 /// A typed value of an option, checked by the option table itself (its ranges and messages) and
 /// by `extra` (e.g. the memory limit); applied on Enter only when valid, otherwise the error stays
 /// next to the field and nothing changes: never clamped silently.
-/// The field sits right of its slider (begin_typed_row) and carries the row's label.
+/// The field sits right of its knob's drag field (typed_row_width) and carries the row's label.
 constexpr float typed_width = 84.0f;
 
-/// Sets the width of the slider before a typed field, so that both fit where one item goes.
-void begin_typed_row() {
-    ImGui::SetNextItemWidth(std::max(60.0f, ImGui::CalcItemWidth() - typed_width - ImGui::GetStyle().ItemInnerSpacing.x));
+/// The width of the widget before a typed field, so that both fit where one item goes.
+float typed_row_width() {
+    return std::max(60.0f, ImGui::CalcItemWidth() - typed_width - ImGui::GetStyle().ItemInnerSpacing.x);
 }
 
 bool typed_option(PanelState& state, const char* label, const char* option, const std::string& current,
@@ -68,6 +69,10 @@ bool typed_option(PanelState& state, const char* label, const char* option, cons
     }
     ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
     ImGui::SetNextItemWidth(typed_width);
+    if (state.type_into == label) {  // Ctrl+click on the knob's drag field
+        ImGui::SetKeyboardFocusHere();
+        state.type_into.clear();
+    }
     const bool entered = ImGui::InputText(label, field.text.data(), field.text.size(),
                                           ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
     field.editing = ImGui::IsItemActive();
@@ -97,13 +102,105 @@ bool typed_option(PanelState& state, const char* label, const char* option, cons
     return applied;
 }
 
-/// A logarithmic slider over [lo, hi], widened to hold the current value (a click on it never
-/// silently moves a value that lies outside to the slider's end).
-bool log_slider(const char* label, double& value, double lo, double hi, const char* format, bool typed = false) {
-    if (value > 0.0) lo = std::min(lo, value), hi = std::max(hi, value);
-    if (typed) begin_typed_row();
-    return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format,
-                               ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_NoInput);
+/// A number as `format` shows it ("%.4g").
+std::string formatted(const char* format, double value) {
+    char text[64];
+    std::snprintf(text, sizeof text, format, value);
+    return text;
+}
+
+/// The tooltip of a logarithmic knob: what it does, then how it is dragged and typed.
+void drag_hint(const char* what) {
+    if (!ImGui::IsItemHovered()) return;
+    ImGui::SetTooltip("%s\ndrag: %.0f%% a pixel; Shift+drag: %.0f%% a pixel; Ctrl+click or the field on the "
+                      "right: type a value",
+                      what, 100.0 * (fine_factor_per_pixel - 1.0), 100.0 * (coarse_factor_per_pixel - 1.0));
+}
+
+/// A logarithmic knob's drag field, left of its typed field `label`: a drag changes the value by a
+/// bounded factor a pixel (ui/knob_drag.h; Shift: coarse), a click alone changes nothing, and
+/// Ctrl+click moves the keyboard to the typed field. Its rectangle goes to state.knob_rects.
+bool log_drag(PanelState& state, const char* label, double& value, const LogKnobScale& scale, const std::string& text) {
+    const ImGuiStyle& style = ImGui::GetStyle();
+    ImGui::PushStyleColor(ImGuiCol_Button, style.Colors[ImGuiCol_FrameBg]);
+    ImGui::PushStyleColor(ImGuiCol_ButtonHovered, style.Colors[ImGuiCol_FrameBgHovered]);
+    ImGui::PushStyleColor(ImGuiCol_ButtonActive, style.Colors[ImGuiCol_FrameBgActive]);
+    ImGui::Button((text + "###drag " + label).c_str(), ImVec2(typed_row_width(), 0.0f));
+    ImGui::PopStyleColor(3);
+    state.knob_rects[label] = {glm::vec2(ImGui::GetItemRectMin().x, ImGui::GetItemRectMin().y),
+                               glm::vec2(ImGui::GetItemRectMax().x, ImGui::GetItemRectMax().y)};
+    const ImGuiIO& io = ImGui::GetIO();
+    if (ImGui::IsItemActivated()) {
+        if (io.KeyCtrl) {
+            state.type_into = label;
+        } else {
+            state.knob_drag.begin(value, io.MousePos.x, io.KeyShift);
+            state.knob_dragged = label;
+        }
+    }
+    bool changed = false;
+    if (ImGui::IsItemActive() && state.knob_dragged == label) {
+        const double dragged = state.knob_drag.update(scale, io.MousePos.x, io.KeyShift);
+        changed = dragged != value;
+        value = dragged;
+    }
+    if (ImGui::IsItemDeactivated() && state.knob_dragged == label) state.knob_dragged.clear();
+    return changed;
+}
+
+/// The typed photon count's check beyond the option's range: what one light's photon map can hold
+/// in this machine's memory (the photon knob's end).
+std::function<std::string(const Options&)> memory_check(const char* option, long long Options::*count, long long limit) {
+    return [option, count, limit](const Options& o) -> std::string {
+        if (o.*count <= limit) return {};
+        return std::string("--") + option + ": " + std::to_string(o.*count) + " is above the " + std::to_string(limit) +
+               " photons a light's photon map can hold in this machine's memory";
+    };
+}
+
+/// A logarithmic knob's row: what it is called, its option, its drag's range, how its value is
+/// shown ("%.4g"; whole numbers as they are) and what it does (the tooltip).
+struct KnobRow {
+    const char* label;
+    const char* option;
+    LogKnobScale scale;
+    const char* format;
+    const char* what;
+};
+
+/// Draws a knob's drag field and its typed field, and applies either to `value` (typed: the
+/// option's `field` as the option table reads it, checked by `extra` too).
+template <typename T>
+void knob_row(PanelState& state, const KnobRow& row, T& value, T Options::*field,
+              const std::function<std::string(const Options&)>& extra = {}) {
+    std::string shown, current;
+    if constexpr (std::is_integral_v<T>) {
+        current = std::to_string(value);
+        shown = value == 0 && row.scale.zero ? "0 (off)" : current;
+    } else {
+        current = exact_number(value);
+        shown = formatted(row.format, value);
+    }
+    double dragged = static_cast<double>(value);
+    if (log_drag(state, row.label, dragged, row.scale, shown)) {
+        if constexpr (std::is_integral_v<T>) value = static_cast<T>(std::llround(dragged));
+        else value = dragged;
+    }
+    drag_hint(row.what);
+    Options typed;
+    if (typed_option(state, row.label, row.option, current, extra, typed)) value = typed.*field;
+}
+
+/// The classic integrator's GI photon map: photons and neighbours, dragged or typed.
+void gi_knobs(PanelState& state, CausticKnobs& k, const LogKnobScale& photon_scale, long long photons_limit) {
+    knob_row(state,
+             {"GI photons", "gi-num-photons", photon_scale, nullptr,
+              "photons per light for the GI map, up to what this machine's memory holds; re-shoots photons"},
+             k.gi_photons, &Options::gi_num_photons, memory_check("gi-num-photons", &Options::gi_num_photons, photons_limit));
+    knob_row(state,
+             {"GI neighbours", "gi-num-neighbours", {1.0, 1e6, false, true}, nullptr,
+              "photons in each GI estimate (1 to a million); gathers again"},
+             k.gi_neighbours, &Options::gi_num_neighbours);
 }
 
 }  // namespace
@@ -141,52 +238,42 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
 
     // Photons: 0 to what the photon map can hold in memory, on a logarithmic scale.
     const long long photons_limit = photon_memory_limit();
-    const long long photons_lo = 0, photons_hi = std::max(photons_limit, k.num_photons);
-    begin_typed_row();
-    ImGui::SliderScalar("##photons", ImGuiDataType_S64, &k.num_photons, &photons_lo, &photons_hi,
-                        k.num_photons == 0 ? "0 (off)" : "%lld", ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_NoInput);
-    hint("photons per light over its whole sphere (0 = no caustics), up to what this machine's memory holds; "
-         "re-shoots photons, keeps the BVH");
-    Options typed;
-    auto memory_check = [photons_limit](const Options& o) -> std::string {
-        if (o.caustic_num_photons <= photons_limit) return {};
-        return "--caustic-num-photons: " + std::to_string(o.caustic_num_photons) + " is above the " +
-               std::to_string(photons_limit) + " photons a light's photon map can hold in this machine's memory";
-    };
-    if (typed_option(state, "photons", "caustic-num-photons", std::to_string(k.num_photons), memory_check, typed))
-        k.num_photons = typed.caustic_num_photons;
-
-    double unit = k.unit_distance;
-    if (log_slider("##unit", unit, 1e-3, 1e4, "%.4g", true)) k.unit_distance = unit;
-    hint("the scene's unit of distance for photon energy; re-shoots photons");
-    if (typed_option(state, "unit distance", "unit-distance", exact_number(k.unit_distance), {}, typed))
-        k.unit_distance = typed.unit_distance;
-
-    double neighbours = k.num_neighbours;
-    if (log_slider("##neighbours", neighbours, 1.0, 1e6, "%.0f", true))
-        k.num_neighbours = static_cast<int>(std::clamp(std::lround(neighbours), 1L, 1'000'000L));
-    hint("photons in each radiance estimate (1 to a million); gathers again, no new photons");
-    if (typed_option(state, "neighbours N", "caustic-num-neighbours", std::to_string(k.num_neighbours), {}, typed))
-        k.num_neighbours = typed.caustic_num_neighbours;
+    const LogKnobScale photon_scale{1000.0, static_cast<double>(photons_limit), true, true};
+    knob_row(state,
+             {"photons", "caustic-num-photons", photon_scale, nullptr,
+              "photons per light over its whole sphere (0 = no caustics), up to what this machine's memory holds; "
+              "re-shoots photons, keeps the BVH"},
+             k.num_photons, &Options::caustic_num_photons,
+             memory_check("caustic-num-photons", &Options::caustic_num_photons, photons_limit));
+    knob_row(state,
+             {"unit distance", "unit-distance", {1e-3, 1e4}, "%.4g",
+              "the scene's unit of distance for photon energy; re-shoots photons"},
+             k.unit_distance, &Options::unit_distance);
+    knob_row(state,
+             {"neighbours N", "caustic-num-neighbours", {1.0, 1e6, false, true}, nullptr,
+              "photons in each radiance estimate (1 to a million); gathers again, no new photons"},
+             k.num_neighbours, &Options::caustic_num_neighbours);
 
     bool automatic = k.max_dist < 0.0;
     if (ImGui::Checkbox("auto max distance", &automatic)) k.max_dist = automatic ? -1.0 : 0.15 * k.unit_distance;
     hint("automatic: 0.15 x unit distance");
     if (!automatic) {
-        log_slider("##max_dist", k.max_dist, 1e-4 * k.unit_distance, 100.0 * k.unit_distance, "%.4g", true);
-        hint("largest photon gather radius (any positive value); gathers again, no new photons");
-        if (typed_option(state, "max distance", "caustic-max-dist", exact_number(k.max_dist), {}, typed))
-            k.max_dist = typed.caustic_max_dist;
+        knob_row(state,
+                 {"max distance", "caustic-max-dist", {1e-4 * k.unit_distance, 100.0 * k.unit_distance}, "%.4g",
+                  "largest photon gather radius (any positive value); gathers again, no new photons"},
+                 k.max_dist, &Options::caustic_max_dist);
     } else {
         ImGui::SameLine();
         ImGui::TextDisabled("= %.4g", 0.15 * k.unit_distance);
     }
-    log_slider("energy fudge", k.energy_fudge, 0.01, 100.0, "%.3g");
-    hint("scales every photon's energy; re-shoots photons");
+    knob_row(state, {"energy fudge", "energy-fudge", {0.01, 100.0}, "%.3g", "scales every photon's energy; re-shoots photons"},
+             k.energy_fudge, &Options::energy_fudge);
     int mode = static_cast<int>(k.projection_map);
     if (ImGui::Combo("projection maps", &mode, "auto\0on\0off\0")) k.projection_map = static_cast<ProjectionMapMode>(mode);
-    ImGui::SliderInt("map granularity", &k.pm_granularity, 2, 4096, "%d", ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_NoInput);
-    hint("rows of the polar map (columns: twice as many), 2 to 4096");
+    knob_row(state,
+             {"map granularity", "caustic-pm-gran", {2.0, 4096.0, false, true}, nullptr,
+              "rows of the polar map (columns: twice as many), 2 to 4096"},
+             k.pm_granularity, &Options::caustic_pm_gran);
     ImGui::Checkbox("photons only", &k.photons_only);
     hint("show the caustic radiance estimate alone");
     ImGui::SameLine();
@@ -195,13 +282,7 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     if (integrator_entry(k.integrator).gi_map) {
         ImGui::Checkbox("global illumination", &k.gi);
         hint("classic --gi: a GI photon map replaces the ambient term; re-shoots photons");
-        if (k.gi) {
-            const long long gi_lo = 0, gi_hi = std::max(photons_limit, k.gi_photons);
-            ImGui::SliderScalar("GI photons", ImGuiDataType_S64, &k.gi_photons, &gi_lo, &gi_hi, "%lld",
-                                ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_NoInput);
-            ImGui::SliderInt("GI neighbours", &k.gi_neighbours, 1, 1'000'000, "%d",
-                             ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_NoInput);
-        }
+        if (k.gi) gi_knobs(state, k, photon_scale, photons_limit);
     }
     model.set_coalescing(ImGui::IsAnyItemActive());  // a drag is one undo step
     model.set_knobs(k);
@@ -211,7 +292,10 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     overlay_settings(model, state);
 }
 
-void draw_differences_section(ViewModel& model) {
+namespace {
+
+/// The differences region's content: a row per difference, reset all, the command line.
+void differences_rows(ViewModel& model) {
     if (!model.has_scene()) {  // nothing shown: nothing differs, no command renders it
         ImGui::TextDisabled("no scene loaded");
         return;
@@ -251,6 +335,16 @@ void draw_differences_section(ViewModel& model) {
         for (const std::string& note : model.command_line_notes()) ImGui::TextDisabled("note: %s", note.c_str());
         ImGui::PopTextWrapPos();
     }
+}
+
+}  // namespace
+
+void draw_differences_section(ViewModel& model) {
+    // A region of fixed height, scrolling inside: rows that come and go with each change never
+    // move the knobs below it (docs/PREVIEW.md, "Panels").
+    ImGui::BeginChild("differences region", ImVec2(0.0f, differences_region_lines * ImGui::GetTextLineHeightWithSpacing()));
+    differences_rows(model);
+    ImGui::EndChild();
 }
 
 }  // namespace caustica::ui

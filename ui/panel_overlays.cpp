@@ -97,6 +97,7 @@ void help_window(PanelState& state, glm::vec2 area) {
         {"F / 1", "fit the image / pixels 1:1"},
         {"B", "snapshot the image as the A/B reference"},
         {"A", "compare: off, split, difference, relative error (drag the split line)"},
+        {"drag a knob / Shift+drag", "change it by 1 % / 10 % a pixel (Ctrl+click: type a value)"},
         {"drop a .lua file", "open it"},
         {"F1, H", "this help"},
         {"Esc", "close this help"},

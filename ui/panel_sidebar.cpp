@@ -3,6 +3,7 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 
@@ -16,12 +17,34 @@ void apply_panel_style() {
     style.WindowRounding = 0.0f;
 }
 
+namespace {
+
+/// Pads the sidebar's content down to where it ended in the last frame, as far as the window is
+/// scrolled: a section that gets shorter (rows gone, a header folded, an error cleared) then never
+/// makes ImGui pull the scroll back, which would move every control under the cursor
+/// (docs/PREVIEW.md, "Panels"). Never past the last frame's end, so the wheel cannot scroll into
+/// the padding, and the padding goes as the person scrolls up.
+void hold_scroll(float& last_end) {
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float end = ImGui::GetCursorPosY();  // content coordinates: after the last item and its spacing
+    // The end that keeps the scroll where it is: the content reaches the window's bottom edge
+    // less its padding (plus a pixel for ImGui's rounding of the content size).
+    const float holding_end = ImGui::GetScrollY() + ImGui::GetWindowHeight() - style.WindowPadding.y + style.ItemSpacing.y + 1.0f;
+    const float target = std::min(last_end, holding_end);
+    if (ImGui::GetScrollY() > 0.0f && target > end)
+        ImGui::Dummy(ImVec2(0.0f, std::max(0.0f, target - end - style.ItemSpacing.y)));
+    last_end = ImGui::GetCursorPosY();
+}
+
+}  // namespace
+
 void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window) {
     ImGui::SetNextWindowPos(ImVec2(window.x - sidebar_width, 0.0f));
     ImGui::SetNextWindowSize(ImVec2(sidebar_width, window.y));
     const ImGuiWindowFlags flags = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
                                    ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings;
     ImGui::Begin("caustica preview", nullptr, flags);
+    state.knob_rects.clear();  // only the knobs drawn in this frame
     ImGui::PushItemWidth(-150.0f);  // room for the labels on the right
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) draw_scene_section(model, state);
     const std::size_t differing = model.differences().size();
@@ -30,6 +53,7 @@ void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window) {
     if (ImGui::CollapsingHeader("Light transport and caustics", ImGuiTreeNodeFlags_DefaultOpen)) draw_caustics_section(model, state);
     if (ImGui::CollapsingHeader("View and save")) draw_view_section(model, state);
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) draw_stats_section(model, state);
+    hold_scroll(state.sidebar_content_end);
     ImGui::PopItemWidth();
     // Changes made while a widget is held (a slider dragged) are one undo step; set here too, so
     // that a folded section cannot leave it on.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "ui/image_layout.h"
+#include "ui/knob_drag.h"
 #include "ui/view_model.h"
 
 #include <array>
@@ -38,6 +39,16 @@ struct PanelState {
         std::string error_value;  ///< the knob's value then: the error goes when the knob changes
     };
     std::map<std::string, TypedField> typed;
+    std::string type_into;                ///< the knob whose typed field takes the keyboard next (Ctrl+click)
+
+    // Logarithmic knobs (ui/knob_drag.h)
+    LogKnobDrag knob_drag;                ///< the drag in progress
+    std::string knob_dragged;             ///< the knob it drags ("neighbours N"); empty: none
+    /// Where a widget was drawn in the last frame (window pixels).
+    struct WidgetRect {
+        glm::vec2 min{0.0f}, max{0.0f};
+    };
+    std::map<std::string, WidgetRect> knob_rects;  ///< the drag field of each knob drawn in the last frame (tests)
     std::string rules_error;              ///< why a typed stopping rule was not applied
 
     // Saving
@@ -46,6 +57,7 @@ struct PanelState {
     bool message_sticky = false;          ///< the message stays until dismissed
     int question_frame = -1;              ///< ImGui frame in which the last question opened
     float image_area_width = 0.0f;        ///< width of the image area; 0 = the window's minus the sidebar
+    float sidebar_content_end = 0.0f;     ///< where the sidebar's content ended in the last frame (ImGui's content y)
 
     // Camera
     std::array<char, 64> bookmark_name{};
@@ -62,7 +74,10 @@ void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window);
 void draw_scene_section(ViewModel& model, PanelState& state);
 /// Caustics section: the knobs, views and the projection-map overlay settings.
 void draw_caustics_section(ViewModel& model, PanelState& state);
-/// What differs from `caustica render SCENE`: a reset per row, reset all, the command line.
+/// Text lines of the differences region: its height, whatever the rows.
+inline constexpr float differences_region_lines = 7.0f;
+/// What differs from `caustica render SCENE`, in a region of fixed height that scrolls: a reset
+/// per row, reset all, the command line.
 void draw_differences_section(ViewModel& model);
 /// View section: camera, display, resolution and threads, saving.
 void draw_view_section(ViewModel& model, PanelState& state);
