@@ -8,6 +8,7 @@
 #include "app/render_output.h"
 #include "app/render_plan.h"
 #include "core/io/atomic_file.h"
+#include "core/render/accumulation_state.h"
 #include "core/render/random.h"
 #include "core/render/render_session.h"
 #include "core/render/cluster.h"
@@ -20,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <new>
 #include <optional>
@@ -45,21 +47,96 @@ extern "C" void on_interrupt(int) {
     ::_exit(exit_interrupted);
 }
 
-/// Renders one job to completion (or interruption), showing its progress when `show`. Returns
+/// --resume: the accumulation saved beside a frame's image (docs/OUTPUT.md, "Resuming an
+/// accumulation"), continued when there is one and kept up to date while rendering.
+struct StateSaving {
+    std::string path;                          // IMAGE.caustica-state
+    bool inside_current_folder = false;        // a script's name: written as its image is
+    std::optional<AccumulationState> start;    // the saved accumulation to continue
+    double next_save = 0.0;                    // steady-clock seconds of the next periodic save
+    bool requested = false;                    // a snapshot is on its way
+};
+
+/// At least this long between two periodic saves of a running accumulation, and at least ten
+/// times what the last save took (a large image's state is large): a crash loses little, the
+/// saves take little.
+constexpr double state_save_interval = 30.0;
+
+double steady_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// The saved accumulation of `frame` to continue, if its file exists: refused (InputError naming
+/// the file) when it is damaged or belongs to another job, before anything is rendered.
+StateSaving state_saving_for(const AnimationFrame& frame) {
+    StateSaving saving;
+    saving.path = accumulation_state_path(frame.path);
+    saving.inside_current_folder = frame.named_by_script;
+    saving.next_save = steady_seconds() + state_save_interval;
+    std::error_code ec;
+    if (!std::filesystem::exists(saving.path, ec)) return saving;
+    const AccumulationKey key = accumulation_key(frame.job);
+    AccumulationState state = read_accumulation_state(saving.path, key.width, key.height);
+    if (const std::string mismatch = accumulation_mismatch(state.key, key); !mismatch.empty())
+        throw InputError(saving.path + ": cannot continue this accumulation: " + mismatch +
+                         " (remove the file to start again, or write the image under another name)");
+    if (!frame.job.options.silent)
+        std::fprintf(stderr, "continuing the accumulation in %s (%d passes)\n", printable_text(saving.path).c_str(),
+                     state.next_pass);
+    saving.start = std::move(state);
+    return saving;
+}
+
+/// Writes a state, and schedules the next periodic save by how long this one took.
+void write_state(const AccumulationState& state, StateSaving& saving) {
+    const double t0 = steady_seconds();
+    write_accumulation_state(saving.path, state, saving.inside_current_folder);
+    const double now = steady_seconds();
+    saving.next_save = now + std::max(state_save_interval, 10.0 * (now - t0));
+}
+
+/// While rendering: asks for a snapshot when a save is due, and writes it once made (a failed
+/// write is a warning: the render goes on, and the save at its end says it again).
+void save_periodically(RenderSession& session, StateSaving& saving, bool quiet) {
+    AccumulationState state;
+    if (saving.requested && session.take_accumulation_snapshot(state)) {
+        saving.requested = false;
+        try {
+            write_state(state, saving);
+        } catch (const std::exception& e) {
+            saving.next_save = steady_seconds() + state_save_interval;
+            if (!quiet) std::fprintf(stderr, "\nwarning: %s\n", printable_text(e.what()).c_str());
+        }
+    } else if (!saving.requested && steady_seconds() >= saving.next_save) {
+        session.request_accumulation_snapshot();
+        saving.requested = true;
+    }
+}
+
+/// Renders one job to completion (or interruption), showing its progress when `show`; with
+/// `saving` (--resume) continues its saved accumulation and saves it periodically. Returns
 /// exit_ok or exit_interrupted; rethrows the session's errors.
-int render_frame(RenderSession& session, const RenderJob& job, const std::string& path, bool show) {
+int render_frame(RenderSession& session, const RenderJob& job, const std::string& path, bool show,
+                 StateSaving* saving = nullptr) {
     const Options& o = job.options;
     session.set_job(job);
     if (o.verbose && !o.silent)
         std::fprintf(stderr, "%s: rendering %s (%d x %d)\n", printable_text(job.where.str()).c_str(),
                      printable_text(path).c_str(), o.resolution_override ? o.resolution_override : job.width,
                      o.resolution_override ? o.resolution_override : job.height);
-    session.start();
+    if (saving && saving->start) {
+        AccumulationState start = std::move(*saving->start);
+        saving->start.reset();
+        session.start_from(std::move(start));
+    } else {
+        session.start();
+    }
     ProgressBar bar(show && !o.silent);
     for (;;) {
         const SessionProgress p = session.progress();
         if (!p.running) break;
         if (interrupted) session.cancel();
+        if (saving && !interrupted) save_periodically(session, *saving, o.silent);
         if (p.accumulating) {
             // Passes have no fixed total: the nearest stopping rule gives the fraction.
             double fraction = 0.0;
@@ -86,14 +163,32 @@ int render_frame(RenderSession& session, const RenderJob& job, const std::string
     return complete && !interrupted ? exit_ok : exit_interrupted;
 }
 
-/// Renders one frame and writes its image.
-int render_job(RenderSession& session, const AnimationFrame& frame, const std::string& scene_path, const std::string& label) {
-    if (render_frame(session, frame.job, frame.path, true) != exit_ok) {
-        if (!frame.job.options.silent)
-            std::fprintf(stderr, "caustica: interrupted; %s not written\n", printable_text(frame.path).c_str());
+/// --resume: saves the accumulation the render left (interrupted or not); returns its passes, or
+/// -1 when there was none to save (an interruption before the first pass: the file is kept).
+int save_final_state(const RenderSession& session, StateSaving& saving) {
+    AccumulationState state;
+    if (!session.accumulation_state(state)) return -1;
+    write_state(state, saving);
+    return state.next_pass;
+}
+
+/// Renders one frame and writes its image; with `resume`, continues and saves its accumulation.
+int render_job(RenderSession& session, const AnimationFrame& frame, const std::string& scene_path, const std::string& label,
+               bool resume) {
+    std::optional<StateSaving> saving;
+    if (resume) saving = state_saving_for(frame);
+    const bool quiet = frame.job.options.silent;
+    if (render_frame(session, frame.job, frame.path, true, saving ? &*saving : nullptr) != exit_ok) {
+        if (!quiet) std::fprintf(stderr, "caustica: interrupted; %s not written\n", printable_text(frame.path).c_str());
+        if (saving)
+            if (const int passes = save_final_state(session, *saving); passes >= 0 && !quiet)
+                std::fprintf(stderr, "caustica: its accumulation (%d passes) is saved in %s; the same command continues it\n",
+                             passes, printable_text(saving->path).c_str());
         return exit_interrupted;
     }
-    return write_frame(frame, scene_path, label, session.image(), session.stats());
+    const int code = write_frame(frame, scene_path, label, session.image(), session.stats());
+    if (saving) save_final_state(session, *saving);  // also when Ctrl-C stopped the image's write
+    return code;
 }
 
 /// Rank 0 tells the user what stopped every rank (an interruption once: `said` when it was);
@@ -282,6 +377,11 @@ std::string render_help() {
            "The extension picks the format: .png (8-bit; --srgb, --tonemap), .exr (OpenEXR, linear\n"
            "and unclamped, half or --exr-pixel float, parameters in the header) or .pfm (linear float).\n"
            "--exposure scales every format. docs/OUTPUT.md has the details.\n"
+           "  --resume           (command line only; progressive accumulation, not under mpirun)\n"
+           "                     continue the accumulation saved in OUT.caustica-state beside the\n"
+           "                     image, if any (refused if it belongs to another scene, camera, size\n"
+           "                     or options), and keep it saved there: every 30 s, at the end and on\n"
+           "                     Ctrl-C; --passes, --time and --target-error count from its start\n"
            "The script runs sandboxed: it reads only regular files under its own folder, and\n"
            "--allow-read DIR (repeatable, command line only) lets it read under DIR too.\n"
            "Script names for gr.render are relative to the current folder, without '..', and\n"
@@ -306,7 +406,8 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
         for (const AnimationFrame& frame : plan.plan.frames) {
             int code = exit_ok;
             try {
-                code = render_job(session, frame, plan.parsed.scene, plan.numbered ? frame_label(frame) : "");
+                code = render_job(session, frame, plan.parsed.scene, plan.numbered ? frame_label(frame) : "",
+                                  plan.parsed.resume);
             } catch (const std::bad_alloc&) {
                 throw out_of_memory(frame.job, frame.path);
             }
@@ -332,6 +433,10 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
     mine.reset();
     if (ending > 0 && early >= 0)
         mine = RankFailure{cluster->rank(), exit_usage, "this rank was given --help while the others render: give every rank the same arguments"};
+    else if (plan.parsed.resume)  // the ranks' sums meet only at the end of a frame (docs/OUTPUT.md)
+        mine = RankFailure{cluster->rank(), exit_usage,
+                           "--resume works in a single process, not under mpirun: run the accumulation to resume "
+                           "without mpirun"};
     if (const std::optional<RankFailure> failure = cluster->agree(mine)) return report(*failure, *cluster);
     // Every rank must render the same jobs: the same binary on the same files with the same
     // options. A rank that loaded something else (a node with other files) says so.

@@ -40,6 +40,8 @@ RenderArguments parse_arguments(const std::vector<std::string>& args) {
             parsed.allow_read.push_back(args[++i]);
         } else if (a.rfind("--allow-read=", 0) == 0) {
             parsed.allow_read.push_back(a.substr(13));
+        } else if (a == "--resume") {
+            parsed.resume = true;
         } else {
             tokens.push_back(a);
         }
@@ -176,6 +178,12 @@ int plan_render(const std::vector<std::string>& args, RenderSession& session, bo
         if (integrator_entry(o.integrator).accumulates && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
             throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
     }
+    if (parsed.resume)
+        for (const AnimationFrame& frame : out.plan.frames)
+            if (!frame.job.options.accumulates())
+                throw InputError("--resume: " + frame.path +
+                                 " does not accumulate passes; it continues --integrator progressive with --passes, "
+                                 "--time or --target-error");
     if (writes && !jobs[0].options.silent)
         for (const std::string& w : out.plan.warnings) std::fprintf(stderr, "warning: %s\n", printable_text(w).c_str());
     // Frames are numbered in the images' metadata when there is more than one to number.

@@ -20,6 +20,7 @@ struct RenderArguments {
     std::string output;                       ///< -o, or "" for the names the script gives
     std::vector<std::string> allow_read;      ///< --allow-read folders (command line only)
     AnimationRequest animation;               ///< --frames, --orbit-frames (command line only)
+    bool resume = false;                      ///< --resume: continue and keep the saved accumulation
     bool help = false;
 };
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace caustica {
 namespace {
@@ -93,6 +94,13 @@ void ProgressiveAccumulator::reset(int width, int height) {
     height_ = height;
     const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
     sums_.assign(pixels * sums_per_pixel, 0);
+}
+
+void ProgressiveAccumulator::adopt(int width, int height, std::vector<std::int64_t>&& sums) {
+    static_assert(sample_count_slot == count_slot);
+    width_ = width;
+    height_ = height;
+    sums_ = std::move(sums);
 }
 
 glm::vec3 ProgressiveAccumulator::add(std::size_t index, const PassSample& sample) {

@@ -58,8 +58,13 @@ public:
     /// int64 sums per pixel (see sums()).
     static constexpr std::size_t sums_per_pixel = 25;
 
+    /// Where a pixel's sample count sits among its sums (what a saved state is checked by).
+    static constexpr std::size_t sample_count_slot = 13;
+
     /// Empties the sums for an image of this size.
     void reset(int width, int height);
+    /// Takes up saved sums (sums_per_pixel per pixel of a width x height image) without another copy.
+    void adopt(int width, int height, std::vector<std::int64_t>&& sums);
     int width() const { return width_; }
     int height() const { return height_; }
     bool empty() const { return counts_empty(); }

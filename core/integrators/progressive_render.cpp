@@ -73,6 +73,15 @@ inline void check_pixel([[maybe_unused]] const glm::vec3& c, [[maybe_unused]] in
 #endif
 }
 
+/// Writes the accumulated means into every tile of `image` and publishes them.
+void publish_means(RenderHost& host, const ProgressiveAccumulator& accumulator, Image& image) {
+    host.publish_tiles([&](const Tile& t) {
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x)
+                image.at(x, y) = accumulator.mean(static_cast<std::size_t>(y) * image.width + x);
+    });
+}
+
 }  // namespace
 
 void render_accumulation_tile(const ProgressiveIntegrator& integrator, const TileContext& context, const Tile& tile,
@@ -182,6 +191,79 @@ void ProgressiveRender::adapt_radii(Cluster* cluster, const std::atomic<bool>& c
     std::memcpy(factors.data(), bytes.data(), bytes.size());
 }
 
+void ProgressiveRender::invalidate() {
+    state_.valid = false;
+    snapshot_wanted_ = false;
+    std::lock_guard lock(snapshot_mutex_);
+    snapshot_.reset();
+}
+
+AccumulationState ProgressiveRender::saved(double seconds) const {
+    AccumulationState s;
+    s.key.width = accumulator_.width();
+    s.key.height = accumulator_.height();
+    s.next_pass = state_.next_pass;
+    s.scale_pass = state_.scale_pass;
+    s.scale2 = state_.scale2;
+    s.first_radius = state_.first_radius;
+    s.radius = state_.radius;
+    s.typical_radius = state_.typical_radius;
+    s.seed = state_.seed;
+    s.photons_emitted = state_.photons_emitted;
+    s.seconds = seconds;
+    s.sums = accumulator_.sums();
+    s.radius_factors = state_.radius_factors;
+    s.adapted_sums = state_.adapted_sums;
+    return s;
+}
+
+bool ProgressiveRender::save_state(AccumulationState& out) const {
+    if (!state_.valid) return false;
+    out = saved(state_.seconds);
+    return true;
+}
+
+bool ProgressiveRender::restore_state(AccumulationState&& s) {
+    const std::size_t pixels = static_cast<std::size_t>(std::max(0, s.key.width)) * static_cast<std::size_t>(std::max(0, s.key.height));
+    const bool fits = pixels > 0 && s.sums.size() == pixels * ProgressiveAccumulator::sums_per_pixel &&
+                      (s.radius_factors.empty() || s.radius_factors.size() == pixels) &&
+                      (s.adapted_sums.empty() || s.adapted_sums.size() == pixels * ProgressiveAccumulator::snapshot_slots);
+    invalidate();
+    if (!fits) return false;
+    accumulator_.adopt(s.key.width, s.key.height, std::move(s.sums));
+    state_ = State{};
+    state_.valid = true;
+    state_.next_pass = s.next_pass;
+    state_.scale_pass = s.scale_pass;
+    state_.scale2 = s.scale2;
+    state_.first_radius = s.first_radius;
+    state_.radius = s.radius;
+    state_.typical_radius = s.typical_radius;
+    state_.seed = s.seed;
+    state_.photons_emitted = s.photons_emitted;
+    state_.seconds = s.seconds;
+    state_.error = accumulator_.estimate_error();
+    state_.radius_factors = std::move(s.radius_factors);
+    state_.adapted_sums = std::move(s.adapted_sums);
+    restored_ = true;
+    return true;
+}
+
+bool ProgressiveRender::take_snapshot(AccumulationState& out) {
+    std::lock_guard lock(snapshot_mutex_);
+    if (!snapshot_) return false;
+    out = std::move(*snapshot_);
+    snapshot_.reset();
+    return true;
+}
+
+void ProgressiveRender::snapshot_if_asked(double seconds) {
+    if (!snapshot_wanted_.exchange(false)) return;
+    AccumulationState copy = saved(seconds);  // outside the lock: the front end never waits for the copy
+    std::lock_guard lock(snapshot_mutex_);
+    snapshot_ = std::move(copy);
+}
+
 void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const TileContext& context) {
     // Progressive photon mapping, memoryless (Knaus & Zwicker 2011; docs/CAUSTICS.md): pass i
     // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
@@ -205,6 +287,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         acc = State{};
         acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
         acc.seed = context.seed;
+        restored_ = false;
     }
     const int limit = options.pass_limit();  // 0 = none
     const double segment_start = now_seconds(), seconds_before = acc.seconds;
@@ -231,6 +314,10 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     const CausticStage* const first_stage = host.photon_stage();
     const bool has_photons = first_stage && first_stage->map;
     Image& image = host.image();
+    if (restored_) {  // a saved accumulation: its image at once, even when no pass is left to add
+        publish_means(host, accumulator_, image);
+        restored_ = false;
+    }
     if (coarse_block > 0) {
         host.run_tiles("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
             render_coarse_tile(context, tile, coarse_block, image, c);
@@ -396,6 +483,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         if (fresh || grid_seconds > 0.0)
             host.add_stage_time("photon passes", (fresh ? fresh->map_seconds + fresh->shoot_seconds : 0.0) + grid_seconds);
         grid_seconds = 0.0;
+        if (!shared) snapshot_if_asked(seconds_before + (now_seconds() - segment_start));
     }
     if (shared) {
         // Every rank's sums on rank 0, which makes the image and the estimate one process makes.
@@ -403,11 +491,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         cluster->reduce_sum(accumulator_.sums());
         if (rank == 0) {
             acc.error = accumulator_.estimate_error();
-            host.publish_tiles([&](const Tile& t) {
-                for (int y = t.y0; y < t.y1; ++y)
-                    for (int x = t.x0; x < t.x1; ++x)
-                        image.at(x, y) = accumulator_.mean(static_cast<std::size_t>(y) * job.width + x);
-            });
+            publish_means(host, accumulator_, image);
         }
     }
     acc.seconds = seconds_before + (now_seconds() - segment_start);

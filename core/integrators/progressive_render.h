@@ -12,6 +12,8 @@
 
 #include <atomic>
 #include <cstdint>
+#include <mutex>
+#include <optional>
 #include <vector>
 
 namespace caustica {
@@ -22,8 +24,8 @@ class ProgressiveRender final : public RenderLoop {
 public:
     /// Whether the buffers hold passes of the job last rendered (resume() may continue them).
     bool resumable() const override { return state_.valid; }
-    /// Forgets the accumulation (another job, or a fresh start).
-    void invalidate() override { state_.valid = false; }
+    /// Forgets the accumulation (another job, or a fresh start), and any snapshot of it.
+    void invalidate() override;
 
     /// Renders passes until a stopping rule or a cancel, continuing the accumulation when it is
     /// resumable. `setup` holds everything but the pass's photon map and radii; `context` the
@@ -31,6 +33,13 @@ public:
     void run(RenderHost& host, const ShadingSetup& setup, const TileContext& context) override;
 
     const ProgressiveAccumulator& accumulator() const { return accumulator_; }
+
+    /// The accumulation as a saved state (docs/OUTPUT.md, "Resuming an accumulation").
+    bool save_state(AccumulationState& out) const override;
+    /// Takes up a saved accumulation: the next run continues it, its image shown first.
+    bool restore_state(AccumulationState&& state) override;
+    void request_snapshot() override { snapshot_wanted_ = true; }
+    bool take_snapshot(AccumulationState& out) override;
 
 private:
     // Kept across renders, so that resume() continues the accumulation.
@@ -57,8 +66,17 @@ private:
     /// The estimate from every rank's sums (a collective).
     ErrorEstimate combined_error(Cluster& cluster, const std::atomic<bool>& cancel);
 
+    /// The saved form of the accumulation, `seconds` of rendering so far.
+    AccumulationState saved(double seconds) const;
+    /// Makes the snapshot asked for, if one was (between whole passes, alone).
+    void snapshot_if_asked(double seconds);
+
     ProgressiveAccumulator accumulator_;
     State state_;
+    bool restored_ = false;  // state_ came from a saved state: its image is not on screen yet
+    std::atomic<bool> snapshot_wanted_{false};
+    std::mutex snapshot_mutex_;  // guards snapshot_
+    std::optional<AccumulationState> snapshot_;
     PhotonGrid grid_;  // the pass's photons (its buffers reused pass after pass)
 };
 

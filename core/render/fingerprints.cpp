@@ -61,7 +61,19 @@ std::uint64_t hash_geometry(const RenderJob& job, bool by_content) {
     return h;
 }
 
+/// The lights, ambient light and background of a job.
+std::uint64_t hash_lighting(std::uint64_t h, const RenderJob& job) {
+    h = hash_vec(hash_vec(h, job.ambient), job.miss_colour);
+    for (int l : job.lights) {
+        const LightDesc& light = job.scene->lights.at(static_cast<std::size_t>(l));
+        h = hash_double(hash_vec(hash_vec(hash_vec(h, light.position), light.colour), light.falloff), light.radius);
+    }
+    return h;
+}
+
 }  // namespace
+
+std::uint64_t scene_content_fingerprint(const RenderJob& job) { return hash_lighting(hash_geometry(job, true), job); }
 
 std::uint64_t geometry_fingerprint(const RenderJob& job) { return hash_geometry(job, false); }
 
@@ -71,12 +83,7 @@ std::uint64_t job_content_fingerprint(const RenderJob& job) {
     h = hash_vec(hash_vec(hash_vec(h, job.camera.eye), job.camera.view), job.camera.up);
     h = hash_double(h, job.camera.fovy_degrees);
     h = hash_combine(hash_combine(h, static_cast<std::uint64_t>(job.width)), static_cast<std::uint64_t>(job.height));
-    h = hash_vec(hash_vec(h, job.ambient), job.miss_colour);
-    for (int l : job.lights) {
-        const LightDesc& light = job.scene->lights.at(static_cast<std::size_t>(l));
-        h = hash_double(hash_vec(hash_vec(hash_vec(h, light.position), light.colour), light.falloff), light.radius);
-    }
-    return h;
+    return hash_lighting(h, job);
 }
 
 }  // namespace caustica

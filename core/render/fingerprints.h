@@ -20,4 +20,10 @@ std::uint64_t job_content_fingerprint(const RenderJob& job);
 /// scene stage (core/scene/options.h), not the camera or the lights.
 std::uint64_t geometry_fingerprint(const RenderJob& job);
 
+/// Fingerprint of the scene a job renders, by content, without its camera, size or the options
+/// of the later stages: the geometry and materials (as job_content_fingerprint hashes them), the
+/// lights, the ambient light and the background. A saved accumulation belongs to it
+/// (core/render/accumulation_state.h).
+std::uint64_t scene_content_fingerprint(const RenderJob& job);
+
 }  // namespace caustica

@@ -5,6 +5,7 @@
 // progressive integrator's (core/integrators/progressive_render.*) decides what each pass does.
 #pragma once
 
+#include "core/render/accumulation_state.h"
 #include "core/render/cluster.h"
 #include "core/render/image.h"
 #include "core/render/render_stats.h"
@@ -84,6 +85,18 @@ public:
     /// Renders until a stopping rule or a cancel, continuing the held work when resumable.
     /// `setup` holds the scene-wide shading inputs; `context` the camera and the base seed.
     virtual void run(RenderHost& host, const ShadingSetup& setup, const TileContext& context) = 0;
+
+    // Saving the held work for another run (docs/OUTPUT.md, "Resuming an accumulation"). A loop
+    // that cannot save keeps these defaults; `key` of a state is the caller's to fill and check.
+    /// Copies the held work into `out` between renders; false when it holds none.
+    virtual bool save_state(AccumulationState& /*out*/) const { return false; }
+    /// Takes up saved work of the current job, continued by the next resumed run; false (holding
+    /// nothing) when it does not fit the loop.
+    virtual bool restore_state(AccumulationState&& /*state*/) { return false; }
+    /// While running: asks for a copy of the work as it stands at the end of the next whole pass.
+    virtual void request_snapshot() {}
+    /// The copy asked for, once made (moved out); false until then.
+    virtual bool take_snapshot(AccumulationState& /*out*/) { return false; }
 };
 
 }  // namespace caustica

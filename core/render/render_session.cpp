@@ -77,6 +77,34 @@ bool RenderSession::resume() {
     return true;
 }
 
+bool RenderSession::accumulation_state(AccumulationState& out) const {
+    if (running_ || distributed() || !loop_ || !loop_->save_state(out)) return false;
+    out.key = accumulation_key(job_);
+    return true;
+}
+
+void RenderSession::start_from(AccumulationState state) {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+    if (!loop_ || !job_.options.accumulates() || distributed())
+        throw InputError("a saved accumulation continues only a progressive render that accumulates passes, alone");
+    if (const std::string mismatch = accumulation_mismatch(state.key, accumulation_key(job_)); !mismatch.empty())
+        throw InputError("cannot continue the saved accumulation: " + mismatch);
+    if (!loop_->restore_state(std::move(state))) throw InputError("the saved accumulation does not fit its image size");
+    resuming_ = true;
+    start();
+}
+
+void RenderSession::request_accumulation_snapshot() {
+    if (loop_) loop_->request_snapshot();
+}
+
+bool RenderSession::take_accumulation_snapshot(AccumulationState& out) {
+    if (!loop_ || !loop_->take_snapshot(out)) return false;
+    out.key = accumulation_key(job_);
+    return true;
+}
+
 void RenderSession::add_stage_time(const std::string& name, double seconds) {
     // The progressive passes are many: one line each for their photons and their images.
     if (name == "progressive passes" || name == "photon passes")

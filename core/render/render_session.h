@@ -111,6 +111,21 @@ public:
     /// was set since, or the job does not accumulate.
     bool resume();
 
+    /// Progressive accumulation, saved for another run (docs/OUTPUT.md, "Resuming an
+    /// accumulation"): the state the last render left, keyed by the current job; false when there
+    /// is none (another job was set since, or it does not accumulate alone). Not while running.
+    bool accumulation_state(AccumulationState& out) const;
+
+    /// Starts rendering from a saved accumulation of the current job (set_job first), continuing
+    /// it as resume() continues a paused one. Throws InputError with the reason when the state
+    /// belongs to another job, or the job does not accumulate.
+    void start_from(AccumulationState state);
+
+    /// While accumulating: asks for a copy of the state at the end of the next whole pass, which
+    /// take_accumulation_snapshot returns (keyed by the job) once made.
+    void request_accumulation_snapshot();
+    bool take_accumulation_snapshot(AccumulationState& out);
+
     /// Changes the progressive stopping rules (--passes, --time, --target-error) of the job
     /// without restarting its accumulation; they take effect at the next start or resume.
     void set_stop_rules(int passes, double time_limit, double target_error);

@@ -393,3 +393,103 @@ TEST_F(Cli, RunningOutOfMemoryIsAClearSceneErrorNotABareBadAlloc) {
                       "lower the resolution or the photon count\n");
     EXPECT_TRUE(pngs().empty());
 }
+
+namespace {
+
+/// A glass ball focusing a light onto a floor, 32 x 32: a caustic that progressive passes refine.
+const char* focus_scene = R"(glass = gr.material({0, 0, 0}, {1, 1, 1}, 20)
+glass:set_ri(1.5)
+ball = gr.nh_sphere('ball', {0, 1.2, 0}, 0.5)
+ball:set_material(glass)
+floor = gr.cube('floor')
+floor:translate(0, -1, 0)
+floor:scale(4, 1, 4)
+floor:set_material(gr.material({1, 1, 1}, {0, 0, 0}, 0))
+root = gr.node('root')
+root:add_child(floor)
+root:add_child(ball)
+gr.render(root, 'focus.png', 32, 32, {0, 5, 0.01}, {0, -1, 0}, {0, 0, -1}, 24, {0, 0, 0},
+          {gr.light({0.3, 4, 0.1}, {1, 1, 1}, {0, 0, 0.1})})
+)";
+
+/// The options of every accumulation below: only --passes and --resume change.
+const std::string progressive = "render --integrator progressive --reproducible --adaptive-radius on "
+                                "--caustic-num-photons 3000 ";
+
+std::string file_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+// docs/OUTPUT.md, "Resuming an accumulation": 5 passes saved, then continued to 10, give the bits
+// of 10 passes at once (the radius adaptation before pass 8 included); the state is kept beside
+// the image.
+TEST_F(Cli, ResumeContinuesASavedAccumulationToTheBitsOfOneRun) {
+    write("focus.lua", focus_scene);
+    ASSERT_EQ(run(progressive + "--passes 10 focus.lua -o whole.pfm").code, 0);
+    EXPECT_FALSE(exists("whole.pfm.caustica-state"));  // only --resume saves
+    const Result first = run(progressive + "--passes 5 --resume focus.lua -o part.pfm");
+    ASSERT_EQ(first.code, 0) << first.output;
+    ASSERT_TRUE(exists("part.pfm.caustica-state"));
+    EXPECT_NE(file_bytes(dir_ / "part.pfm"), file_bytes(dir_ / "whole.pfm"));
+    const Result second = run(progressive + "--passes 10 --resume focus.lua -o part.pfm");
+    ASSERT_EQ(second.code, 0) << second.output;
+    EXPECT_NE(second.output.find("continuing the accumulation in part.pfm.caustica-state (5 passes)"), std::string::npos)
+        << second.output;
+    EXPECT_EQ(file_bytes(dir_ / "part.pfm"), file_bytes(dir_ / "whole.pfm"));
+}
+
+TEST_F(Cli, ResumeRefusesAnotherJobsStateAndKeepsIt) {
+    write("focus.lua", focus_scene);
+    ASSERT_EQ(run(progressive + "--passes 3 --resume focus.lua -o part.pfm").code, 0);
+    const std::string image = file_bytes(dir_ / "part.pfm"), state = file_bytes(dir_ / "part.pfm.caustica-state");
+    const Result photons = run(progressive + "--passes 6 --caustic-num-photons 4000 --resume focus.lua -o part.pfm");
+    EXPECT_EQ(photons.code, 2);
+    EXPECT_NE(photons.output.find("part.pfm.caustica-state: cannot continue this accumulation: it was saved with other "
+                                  "options"),
+              std::string::npos)
+        << photons.output;
+    const Result size = run(progressive + "--passes 6 --minres --resume focus.lua -o part.pfm");
+    EXPECT_EQ(size.code, 2);
+    EXPECT_NE(size.output.find("it was saved for a 32 x 32 image, this render is 100 x 100"), std::string::npos)
+        << size.output;
+    EXPECT_EQ(file_bytes(dir_ / "part.pfm"), image);
+    EXPECT_EQ(file_bytes(dir_ / "part.pfm.caustica-state"), state);
+    // A damaged state is refused with its reason, not continued.
+    fs::resize_file(dir_ / "part.pfm.caustica-state", state.size() - 100);
+    const Result damaged = run(progressive + "--passes 6 --resume focus.lua -o part.pfm");
+    EXPECT_EQ(damaged.code, 2);
+    EXPECT_NE(damaged.output.find("(truncated)"), std::string::npos) << damaged.output;
+    // A render that does not accumulate has nothing to resume.
+    const Result classic = run("render -s --resume focus.lua -o classic.pfm");
+    EXPECT_EQ(classic.code, 2);
+    EXPECT_NE(classic.output.find("does not accumulate passes"), std::string::npos) << classic.output;
+}
+
+TEST_F(Cli, CtrlCWithResumeSavesTheAccumulationForTheNextRun) {
+    write("focus.lua", focus_scene);
+    const std::string binary = CAUSTICA_BINARY;
+    const std::string scene_path = (dir_ / "focus.lua").string(), out_path = (dir_ / "long.pfm").string();
+    const char* argv[] = {binary.c_str(), "render", "--integrator", "progressive", "--caustic-num-photons", "3000",
+                          "--time", "600", "--resume", scene_path.c_str(), "-o", out_path.c_str(), nullptr};
+    pid_t pid;
+    ASSERT_EQ(::posix_spawn(&pid, binary.c_str(), nullptr, nullptr, const_cast<char**>(argv), environ), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // well into the passes
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+    EXPECT_FALSE(exists("long.pfm"));
+    ASSERT_TRUE(exists("long.pfm.caustica-state"));
+    // The next run continues it (to 2 passes: most likely no more than it holds, so it writes the
+    // saved image).
+    const Result next = run("render --integrator progressive --caustic-num-photons 3000 --passes 2 --resume focus.lua "
+                            "-o long.pfm");
+    EXPECT_EQ(next.code, 0) << next.output;
+    EXPECT_NE(next.output.find("continuing the accumulation in long.pfm.caustica-state ("), std::string::npos)
+        << next.output;
+    EXPECT_TRUE(exists("long.pfm"));
+}

@@ -171,6 +171,17 @@ TEST_F(Mpi, MoreFramesThanRanksAreSharedAsWholeFrames) {
     EXPECT_NE(read("shared-0001.pfm"), read("shared-0002.pfm"));  // the camera did turn
 }
 
+TEST_F(Mpi, ResumeIsRefusedUnderMpirunBeforeAnyRendering) {
+    // The ranks add their sums up only at the end of a frame (docs/OUTPUT.md, "Resuming an
+    // accumulation"): refused once, by rank 0, nothing written.
+    const CommandResult r = render("'" + box + "' --minres --integrator progressive --passes 4 --resume -o out.pfm", 2);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("caustica: --resume works in a single process, not under mpirun"), std::string::npos)
+        << r.output;
+    EXPECT_FALSE(exists("out.pfm"));
+    EXPECT_FALSE(exists("out.pfm.caustica-state"));
+}
+
 TEST_F(Mpi, AnErrorOnOneRankStopsEveryRankWithThatRanksMessage) {
     // mpirun's MPMD form gives rank 1 its own command line. Rank 0 says what rank 1 found, every
     // rank exits 2, nothing is written. First an error of rank 1 alone (its output name), then a
