@@ -6,6 +6,7 @@
 
 #include "ui/key_events.h"
 #include "ui/keys.h"
+#include "ui/render_region_tool.h"
 
 #include <cmath>
 #include <cstdio>
@@ -48,6 +49,8 @@ void status_line(const ViewModel& model, float scale) {
                         magnification(scale).c_str(), what.c_str(), done, p.elapsed_seconds);
         }
         photon_progress_bar(p, 320.0f);
+        if (const std::string region = region_status(model.render_region()); !region.empty())
+            ImGui::TextUnformatted(region.c_str());
     } else {
         ImGui::TextUnformatted(model.loading() ? "loading..." : "no scene");
     }
@@ -89,6 +92,8 @@ void help_window(PanelState& state, glm::vec2 area) {
         {"E / Shift+E", "exposure up / down one stop (0: reset with Ctrl+E)"},
         {"G", "sRGB display"},
         {"F5", "reload the scene (it also reloads by itself)"},
+        {"Shift+left drag, Ctrl+B then drag", "render region: every pass goes to the box, the rest keeps its image"},
+        {"Ctrl+Alt+B", "clear the render region (the whole image again)"},
         {"Ctrl+S", "save the image (while rendering: now or when done)"},
         {"Ctrl+Z / Ctrl+Shift+Z, Ctrl+Y", "undo / redo a change of the knobs, preset or stopping rules"},
         {"Tab / the >> button", "hide or show the sidebar (the image takes the whole window)"},

@@ -51,6 +51,21 @@ void bookmarks(ViewModel& model, PanelState& state) {
     ImGui::TreePop();
 }
 
+/// The render region (docs/PREVIEW.md, "Render region") and its Clear button: one line whether a
+/// region is set or not, so that nothing below it moves when one is drawn or cleared.
+void render_region_row(ViewModel& model) {
+    const RenderRegion& region = model.render_region();
+    ImGui::BeginDisabled(region.empty());
+    if (ImGui::SmallButton("Clear region")) model.clear_render_region();
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    if (region.empty()) ImGui::TextDisabled("render region: none (Shift+drag on the image)");
+    else ImGui::Text("render region %d,%d - %d,%d (%d x %d)", region.x0, region.y0, region.x1, region.y1,
+                     region.width(), region.height());
+    hint("Shift+drag (or Ctrl+B, then drag) a box on the image: every pass goes there alone, the rest keeps "
+         "its image; Ctrl+Alt+B or Clear region renders the whole image again");
+}
+
 }  // namespace
 
 void draw_view_section(ViewModel& model, PanelState& state) {
@@ -89,6 +104,7 @@ void draw_view_section(ViewModel& model, PanelState& state) {
     int threads = model.threads();
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     if (ImGui::SliderInt("threads", &threads, 0, cores, threads == 0 ? "all" : "%d")) model.set_threads(threads);
+    render_region_row(model);
 
     ImGui::Separator();
     if (state.save_path_scene != model.scene_path()) {  // propose the script's output name per scene

@@ -47,6 +47,12 @@ void PreviewDriver::set_stop_rules(const StopRules& rules) {
     new_rules_ = rules;
 }
 
+void PreviewDriver::set_region(const RenderRegion& region) {
+    if (region == region_) return;
+    region_ = region;
+    new_region_ = true;
+}
+
 bool PreviewDriver::maps_final() const {
     if (pending_ || !started_) return false;
     if (collected_ && progress_.finished) return true;
@@ -119,13 +125,14 @@ void PreviewDriver::advance(bool spin) {
     const double now = now_seconds();
     take_progress();
     if (started_ && !collected_ && !progress_.running) collect();
-    if (!collected_ && (pending_ || paused_ || new_rules_)) {
+    if (!collected_ && (pending_ || paused_ || new_rules_ || new_region_)) {
         // A render younger than max_preview_wait finishes its coarse preview first, so that the
         // view keeps up while the camera moves instead of restarting before anything is shown.
         // A pause or new stopping rules stop it at once.
         const std::size_t per_pass = tiles_per_pass(progress_);
         const bool preview_shown = per_pass > 0 && progress_.tiles_done >= per_pass;
-        const bool due = paused_ || new_rules_ || preview_shown || now - started_at_ >= settings_.max_preview_wait_seconds;
+        const bool due = paused_ || new_rules_ || new_region_ || preview_shown ||
+                         now - started_at_ >= settings_.max_preview_wait_seconds;
         if (!cancel_sent_ && due) {
             session_.cancel();  // returns at once; the worker stops after its current tile
             cancel_sent_ = true;
@@ -139,7 +146,12 @@ void PreviewDriver::advance(bool spin) {
         }
     }
     if (collected_) {
+        const bool region_changed = new_region_;
+        if (new_region_) apply_region();
         if (new_rules_) apply_stop_rules();
+        // The render goes on in the new region, unless paused (then when resumed), continued
+        // already under new rules, or replaced by a new job.
+        if (region_changed && !paused_ && !pending_ && started_ && collected_) continue_accumulation();
         if (pending_) restart();
         else if (resume_due_ && progress_.cancelled) continue_accumulation();  // not after an error or an end
         resume_due_ = false;
@@ -261,6 +273,11 @@ void PreviewDriver::apply_stop_rules() {
     // The accumulation goes on under the new rules, unless paused (then when resumed).
     // A render its old rules had ended continues too: the new ones may allow more passes.
     if (!paused_ && !pending_ && started_ && (progress_.cancelled || progress_.finished)) continue_accumulation();
+}
+
+void PreviewDriver::apply_region() {
+    new_region_ = false;
+    session_.set_region(region_);  // the worker has stopped: nothing to wait for
 }
 
 void PreviewDriver::fetch() {

@@ -73,6 +73,13 @@ public:
     /// running render stops and continues under the new rules (an accumulation that has stopped
     /// continues too, when the new rules allow more passes). Nothing else is rendered again.
     void set_stop_rules(const StopRules& rules);
+    /// Renders only the pixels of `region` from now on (empty: the whole image), the others
+    /// keeping what they show (docs/PREVIEW.md, "Render region"). Like new stopping rules, it
+    /// never starts an accumulation again: the running render stops and continues in the region
+    /// (a paused one when resumed); a render that does not accumulate renders the region again.
+    void set_region(const RenderRegion& region);
+    /// The region asked for (empty: none).
+    const RenderRegion& region() const { return region_; }
 
     /// The per-frame step: restarts when due, copies new tiles, collects ended renders. Never
     /// waits for a tile; may wait up to cancel_spin_seconds for a cancelled worker to stop.
@@ -160,6 +167,7 @@ private:
     void restart();   // start the pending job
     void continue_accumulation();  // resume the stopped render (or start it again)
     void apply_stop_rules();  // the worker has stopped: the new rules, then continue
+    void apply_region();      // the worker has stopped: the new region (advance() continues)
     void fetch();     // copy the tiles the newest render published since the last copy
     void refresh_maps();
     void poll_stats();  // stats_ and computed_stages_ from the session
@@ -172,6 +180,8 @@ private:
     bool paused_ = false, resume_due_ = false, maps_refreshed_ = false;
     bool stats_forgotten_ = false;  // forget_scene(): no statistics until the next render starts
     std::optional<StopRules> new_rules_;
+    RenderRegion region_;
+    bool new_region_ = false;  // region_ has not reached the session yet
     double started_at_ = 0.0, stats_polled_at_ = 0.0;
     double pass_clock_ = 0.0;  // when the accumulation's pass count last changed (or it started)
     std::uint64_t clock_generation_ = 0;  // the render pass_clock_ belongs to

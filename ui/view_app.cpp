@@ -73,17 +73,25 @@ void ViewApp::handle_mouse(glm::vec2 window) {
     const float split_x = layout_.origin.x + inspect_.split * layout_.size().x;
     for (int b = 0; b < 3; ++b) {
         if (ImGui::IsMouseClicked(b) && over_area) {  // a drag belongs to where it began
-            if (b == 0 && io.KeyCtrl) panning_image_ = true;  // Ctrl+drag moves the zoomed image
+            if (b == 0 && region_drag_.takes_press(io.KeyShift)) region_drag_.begin(layout_.to_image(mouse));
+            else if (b == 0 && io.KeyCtrl) panning_image_ = true;  // Ctrl+drag moves the zoomed image
             else if (b == 0 && split_shown && std::abs(mouse.x - split_x) <= split_grab_pixels) dragging_split_ = true;
             else dragging_[b] = true;
         }
         if (!io.MouseDown[b]) {
             dragging_[b] = false;
             if (b == 0) panning_image_ = dragging_split_ = false;
+            if (b == 0 && region_drag_.active) {  // released: the box becomes the region (a click: none drawn)
+                region_drag_.active = false;
+                const Image& image = model_.driver().image();
+                if (const RenderRegion region = region_drag_.region(image.width, image.height); !region.empty())
+                    model_.set_render_region(region);
+            }
         }
     }
     const glm::vec2 delta(io.MouseDelta.x, io.MouseDelta.y);
     const bool moved = (delta.x != 0.0f || delta.y != 0.0f) && io.MousePos.x > -1e30f && io.MousePosPrev.x > -1e30f;
+    if (moved && region_drag_.active) region_drag_.to = layout_.to_image(mouse);
     if (moved && dragging_[0]) model_.orbit(-delta.x * degrees_per_pixel, delta.y * degrees_per_pixel);
     if (moved && (dragging_[1] || dragging_[2])) model_.pan(glm::dvec2(delta) / static_cast<double>(layout_.scale));
     if (moved && panning_image_) inspect_.zoom.pan(layout_, glm::vec2(0.0f), area_, delta);
@@ -96,7 +104,8 @@ void ViewApp::handle_mouse(glm::vec2 window) {
     if (over_area && ImGui::IsMouseDoubleClicked(0) && layout_.contains(mouse)) {
         if (!model_.set_target_at(layout_.to_image(mouse))) show_message(state_, "nothing under the cursor");
     }
-    const bool dragging = dragging_[0] || dragging_[1] || dragging_[2] || panning_image_ || dragging_split_;
+    const bool dragging =
+        dragging_[0] || dragging_[1] || dragging_[2] || panning_image_ || dragging_split_ || region_drag_.active;
     // The readout follows a mouse that has moved: a pointer resting where the window opened
     // (Xvfb puts it at the screen's centre) shows nothing.
     if (moved) mouse_moved_ = true;
@@ -151,6 +160,38 @@ void ViewApp::handle_keys() {
     if (pressed(key_b)) inspect_.snapshot_requested = true;
     if (pressed(key_i)) inspect_.readout = !inspect_.readout;
     if (pressed(key_a)) inspect_.mode = static_cast<CompareMode>((static_cast<int>(inspect_.mode) + 1) % 4);
+}
+
+void ViewApp::handle_region_keys() {
+    // Ctrl+B arms the next left drag to draw the render region, as Blender's Cycles does; Ctrl+Alt+B
+    // clears it; Esc disarms (docs/PREVIEW.md, "Render region").
+    if (key_pressed_with(keys::b, key_mods::ctrl)) {
+        region_drag_.armed = !region_drag_.armed;
+        if (region_drag_.armed) show_message(state_, "render region: drag a box on the image (Esc cancels)");
+    }
+    if (key_pressed_with(keys::b, key_mods::ctrl | key_mods::alt)) {
+        region_drag_.armed = false;
+        model_.clear_render_region();
+    }
+    if (region_drag_.armed && key_pressed(keys::escape)) region_drag_.armed = false;
+}
+
+void ViewApp::draw_region_outline() const {
+    // Over the image, under every window: the region the passes go to, and the box being drawn.
+    const Image& image = model_.driver().image();
+    const RenderRegion region = region_drag_.active ? region_drag_.region(image.width, image.height)
+                                                    : model_.render_region();
+    if (region.empty() || layout_.image_width <= 0) return;
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
+    draw->PushClipRect(ImVec2(0.0f, 0.0f), ImVec2(area_.x, area_.y), true);
+    const glm::vec2 low = layout_.to_window(glm::vec2(region.x0, region.y0));
+    const glm::vec2 high = layout_.to_window(glm::vec2(region.x1, region.y1));
+    const ImU32 colour = region_drag_.active ? IM_COL32(255, 255, 255, 220) : IM_COL32(255, 190, 40, 230);
+    // Outside the pixels by one screen pixel, so that the outline never covers the region's own.
+    draw->AddRect(ImVec2(low.x - 1.0f, low.y - 1.0f), ImVec2(high.x + 1.0f, high.y + 1.0f), IM_COL32(0, 0, 0, 160),
+                  0.0f, 0, 3.0f);
+    draw->AddRect(ImVec2(low.x - 1.0f, low.y - 1.0f), ImVec2(high.x + 1.0f, high.y + 1.0f), colour, 0.0f, 0, 1.0f);
+    draw->PopClipRect();
 }
 
 void ViewApp::update_overlay_triangles() {
@@ -261,6 +302,7 @@ void ViewApp::frame(glm::vec2 window) {
     area_ = glm::vec2(std::max(window.x - (inspect_.sidebar_hidden ? 0.0f : sidebar_width), 1.0f), window.y);
     handle_mouse(window);
     handle_keys();
+    handle_region_keys();
     area_ = glm::vec2(std::max(window.x - (inspect_.sidebar_hidden ? 0.0f : sidebar_width), 1.0f), window.y);
     model_.update();
     image_->upload(model_.driver());
@@ -289,6 +331,7 @@ void ViewApp::frame(glm::vec2 window) {
             draw->AddText(ImVec2(x + 10.0f, top + 4.0f), IM_COL32(255, 255, 255, 230), "B");
         }
     }
+    draw_region_outline();
     draw_image_overlays(model_, state_, layout_, window);
     draw_hover_readout(inspect_, layout_, area_);
     state_.ui_frame_ms = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();

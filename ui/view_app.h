@@ -8,6 +8,7 @@
 #include "ui/overlay_renderer.h"
 #include "ui/panel_inspect.h"
 #include "ui/panels.h"
+#include "ui/render_region_tool.h"
 #include "ui/view_model.h"
 
 #include <memory>
@@ -60,6 +61,8 @@ private:
     void update_overlay_triangles();
     void update_inspection();
     void load_reference();
+    void handle_region_keys();
+    void draw_region_outline() const;
 
     ViewModel& model_;
     PanelState state_;
@@ -76,6 +79,7 @@ private:
     bool panning_image_ = false, dragging_split_ = false, mouse_moved_ = false;
     std::uint64_t uploaded_reference_ = 0;
     float stats_exposure_ = 0.0f;
+    RegionDrag region_drag_;  // the render region being drawn (Shift+drag, or Ctrl+B then drag)
 };
 
 }  // namespace caustica::ui

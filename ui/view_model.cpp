@@ -179,7 +179,9 @@ void ViewModel::update() {
 
     if (dirty_ && scene_) {
         try {
-            driver_.request(compose(inputs_));
+            const RenderJob job = compose(inputs_);
+            clear_region_of_another_view(job);
+            driver_.request(job);
             requested_inputs_ = inputs_;
         } catch (const std::exception& e) {
             error_ = printable_text(e.what());

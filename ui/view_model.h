@@ -209,6 +209,18 @@ public:
     /// Whether the render is paused.
     bool paused() const { return driver_.paused(); }
 
+    // --- render region (docs/PREVIEW.md, "Render region")
+    /// Renders only these pixels of the shown image (clamped to it; empty: the whole image): every
+    /// pass goes there and the other pixels keep the last image. Never restarts an accumulation:
+    /// it goes on in the region, its pixels keeping their passes. Not a choice to undo, and not an
+    /// option of the copied command line: a working tool, like the pause.
+    void set_render_region(const RenderRegion& region);
+    /// Back to the whole image (the accumulation goes on over every pixel).
+    void clear_render_region() { set_render_region({}); }
+    /// The region in effect (empty: none). Moving the camera, resizing the image or opening
+    /// another scene clears it: it marks pixels of the view it was drawn on.
+    const RenderRegion& render_region() const { return driver_.region(); }
+
     // --- render and display settings
     /// Render resolution relative to the script's (0.1 .. 2).
     double resolution_scale() const { return inputs_.resolution_scale; }
@@ -322,6 +334,7 @@ private:
     void record_undo();
     void forget_choices();  // another scene: start clean
     void update_a4_hint();
+    void clear_region_of_another_view(const RenderJob& next);  // the camera or size changed
     std::vector<std::string>& tokens_of(const std::string& path);
     void recall_integrator();       // a scene opened: the person's integrator for it, unless its command line sets one
     void remember_integrator();     // after a change: keeps the person's integrator for the scene (or forgets it)
@@ -365,6 +378,9 @@ private:
     std::uint64_t overlay_version_ = 0;
     CameraDesc projected_camera_;
     int projected_width_ = 0, projected_height_ = 0;
+
+    CameraDesc region_camera_;  // the view the render region was drawn on
+    int region_width_ = 0, region_height_ = 0;
 };
 
 }  // namespace caustica::ui

@@ -146,13 +146,17 @@ Image ProgressiveAccumulator::image() const {
     return out;
 }
 
-ErrorEstimate ProgressiveAccumulator::estimate_error() const {
+ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_rendered) const {
     ErrorEstimate e;
     const std::size_t pixels = sums_.size() / sums_per_pixel;
     auto at = [&](std::size_t i, std::size_t slot) { return static_cast<double>(sums_[i * sums_per_pixel + slot]); };
+    const std::size_t width = static_cast<std::size_t>(std::max(width_, 1));
+    auto rendered = [&](std::size_t i) {
+        return region_rendered.renders(static_cast<int>(i % width), static_cast<int>(i / width));
+    };
     std::vector<double> lit;
     for (std::size_t i = 0; i < pixels; ++i)
-        if (at(i, photon) > 0.0) lit.push_back(at(i, photon) / at(i, count_slot));
+        if (rendered(i) && at(i, photon) > 0.0) lit.push_back(at(i, photon) / at(i, count_slot));
     // Without photons (nothing specular, no --gi) the whole image is the region: its noise is
     // the eye side's (anti-aliasing, soft shadows).
     double threshold = -1.0;
@@ -175,7 +179,7 @@ ErrorEstimate ProgressiveAccumulator::estimate_error() const {
     auto pass_region = [&](auto&& add_pixel) {
         for (std::size_t i = 0; i < pixels; ++i) {
             const double n = at(i, count_slot);
-            if (n < 2.0) continue;
+            if (n < 2.0 || !rendered(i)) continue;
             if (!(at(i, photon) / n >= threshold)) continue;
             add_pixel(i, n);
         }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/render/image.h"
+#include "core/render/render_region.h"
 
 #include <glm/vec3.hpp>
 
@@ -83,8 +84,9 @@ public:
     /// The accumulated image (means).
     Image image() const;
 
-    /// The estimate of the remaining error (see ErrorEstimate). O(pixels).
-    ErrorEstimate estimate_error() const;
+    /// The estimate of the remaining error (see ErrorEstimate) over the pixels of `region` (empty:
+    /// the whole image), whose caustic part is then found among those pixels alone. O(pixels).
+    ErrorEstimate estimate_error(const RenderRegion& region = {}) const;
 
     /// Updates each pixel's radius factor (the multiplier of r^2 its passes to come gather with;
     /// `factors` holds one per pixel, 1 to start) so that noise and blur come into the balance of

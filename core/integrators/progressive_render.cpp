@@ -294,6 +294,11 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     auto elapsed = [&] { return seconds_before + host.elapsed_seconds(); };
     const int coarse_block = resumed ? 0 : host.coarse_preview_block();
     const std::size_t tile_count = host.tiles().size();
+    // With a render region, passes go to its pixels alone; the others keep their sums and their
+    // pixels, and the error (and its stopping rule) is the region's (docs/PREVIEW.md, "Render region").
+    const RenderRegion region = host.region();
+    if (resumed && !(acc.region == region)) acc.error = accumulator_.estimate_error(region);
+    acc.region = region;
     host.report([&](SessionProgress& progress, RenderStats&) {
         progress.accumulating = true;
         progress.pass_limit = limit;
@@ -320,7 +325,8 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     }
     if (coarse_block > 0) {
         host.run_tiles("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
-            render_coarse_tile(context, tile, coarse_block, image, c);
+            if (const Tile part = region_part(tile, region); !tile_empty(part))
+                render_coarse_tile(context, part, coarse_block, image, c);
         });
     }
     // What pass p gathers with: its photons in a grid, the first radius scaled by (r_p / r_1).
@@ -429,7 +435,8 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             }
             if (!(shared && cancel))
                 host.run_tiles("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
-                    render_accumulation_tile(pass_integrator, pass_context, tile, p, factors, accumulator_, image, c);
+                    if (const Tile part = region_part(tile, region); !tile_empty(part))
+                        render_accumulation_tile(pass_integrator, pass_context, part, p, factors, accumulator_, image, c);
                 });
         }
         double round_seconds = now_seconds() - t0;
@@ -443,7 +450,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         acc.next_pass = limit > 0 ? std::min(limit, round_end) : round_end;
         acc.photons_emitted += round_photons;
         if (!shared) {
-            acc.error = accumulator_.estimate_error();
+            acc.error = accumulator_.estimate_error(region);
         } else if (options.target_error > 0.0 && round >= next_error_check) {
             // Adding every rank's sums costs time (116 bytes a pixel through the network): every
             // round up to 256 K pixels, every 4th at a megapixel, every 32nd at 4K, at most every

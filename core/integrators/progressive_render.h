@@ -54,6 +54,7 @@ private:
         long long photons_emitted = 0;
         double seconds = 0.0;     // rendering time over every start and resume
         ErrorEstimate error;
+        RenderRegion region;      // the pixels the passes go to and the error is estimated over
         std::vector<float> radius_factors;  // per pixel, the multiplier of r^2 (empty: all 1)
         std::vector<std::int64_t> adapted_sums;  // the sums at the last update (rank 0's, with ranks)
     };

@@ -52,6 +52,10 @@ public:
     /// The image the viewer copies tiles from, and its tiles.
     virtual Image& image() = 0;
     virtual const std::vector<Tile>& tiles() const = 0;
+    /// The pixels the passes render, within the image (empty: all); the others keep their pixels
+    /// and, in an accumulation, their sums. The error estimate and its stopping rule look at
+    /// these pixels alone.
+    virtual RenderRegion region() const = 0;
     /// Runs `body` on every tile on the session's threads, each under its tile's lock and then
     /// published (a viewer never sees a tile half-written); stops handing out tiles on cancel, and
     /// publishes none that ends after it (TileContext::cancel: it may have stopped half-way).

@@ -66,6 +66,16 @@ void RenderSession::set_stop_rules(int passes, double time_limit, double target_
     job_.options.target_error = target_error;
 }
 
+void RenderSession::set_region(const RenderRegion& region) {
+    cancel();
+    if (worker_.joinable()) worker_.join();
+    region_ = region;
+}
+
+RenderRegion RenderSession::region_in_image() const {
+    return distributed() ? RenderRegion{} : clamp_region(region_, job_.width, job_.height);
+}
+
 bool RenderSession::resume() {
     cancel();
     if (worker_.joinable()) worker_.join();
@@ -366,6 +376,7 @@ public:
     bool direct_preview_shown() const override { return session_.direct_first_; }
     Image& image() override { return session_.image_; }
     const std::vector<Tile>& tiles() const override { return session_.tiles_; }
+    RenderRegion region() const override { return session_.region_in_image(); }
     void run_tiles(const char* stage, int pass, const TileBody& body) override { runner_.run(stage, pass, body); }
     void publish_tiles(const std::function<void(const Tile&)>& fill) override {
         for (std::size_t i = 0; i < session_.tiles_.size(); ++i) {
@@ -419,9 +430,11 @@ void RenderSession::render_direct_preview(tbb::task_arena& arena) {
         progress_.passes = 1;
         progress_.tiles_total = tiles_.size();
     }
+    const RenderRegion region = region_in_image();
     PassRunner runner{*this, arena, {}};
     runner.run("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
-        render_coarse_tile(context, tile, preview_block_, image_, c);
+        if (const Tile part = region_part(tile, region); !tile_empty(part))
+            render_coarse_tile(context, part, preview_block_, image_, c);
     });
     std::lock_guard lock(mutex_);
     progress_.showing_direct_light = !cancel_requested_;
@@ -449,6 +462,8 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         render_distributed_classic(runner, context);
     } else {
         const std::vector<Tile>& tiles = tiles_;
+        // With a region, only its pixels are rendered again; the others keep the last image.
+        const RenderRegion region = region_in_image();
         refine_.assign(static_cast<std::size_t>(width) * height, 0);
         context.refine = &refine_;
         const bool antialias = has_antialiasing_pass(context);
@@ -461,16 +476,19 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         int pass = coarse_preview_ ? 1 : 0;
         if (coarse_preview_ && !direct_first_)
             runner.run("preview", 0, [&](std::size_t, const Tile& tile, RayCounters& c) {
-                render_coarse_tile(context, tile, preview_block_, image_, c);
+                if (const Tile part = region_part(tile, region); !tile_empty(part))
+                    render_coarse_tile(context, part, preview_block_, image_, c);
             });
         if (!cancel_requested_)
             runner.run("first samples", pass++, [&](std::size_t, const Tile& tile, RayCounters& c) {
-                render_first_pass_tile(context, tile, image_, c);
+                if (const Tile part = region_part(tile, region); !tile_empty(part))
+                    render_first_pass_tile(context, part, image_, c);
             });
         if (antialias && !cancel_requested_) {
             first_pass_ = image_;
             runner.run("anti-aliasing", pass++, [&](std::size_t, const Tile& tile, RayCounters& c) {
-                render_antialiasing_tile(context, tile, first_pass_, image_, c);
+                if (const Tile part = region_part(tile, region); !tile_empty(part))
+                    render_antialiasing_tile(context, part, first_pass_, image_, c);
             });
         }
     }

@@ -130,6 +130,15 @@ public:
     /// without restarting its accumulation; they take effect at the next start or resume.
     void set_stop_rules(int passes, double time_limit, double target_error);
 
+    /// Renders only the pixels of `region` (clamped to the image; empty: every pixel) from the next
+    /// start or resume on; every other pixel keeps what it holds (docs/PREVIEW.md, "Render
+    /// region"). Never restarts an accumulation: its pixels keep their passes, and resume()
+    /// continues it in the new region. Cancels and waits for a render in progress. Alone only: a
+    /// session with other ranks renders every pixel.
+    void set_region(const RenderRegion& region);
+    /// The region set (empty: none).
+    const RenderRegion& region() const { return region_; }
+
     /// Asks the running render to stop; tiles not yet started are dropped. Returns at once.
     void cancel();
 
@@ -209,6 +218,7 @@ private:
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
     ShadingSetup make_setup() const;  // everything the integrator needs but the photon maps
     void render_direct_preview(tbb::task_arena& arena);  // a coarse direct-light pass before photons are shot
+    RenderRegion region_in_image() const;  // region_ within the job's image; empty with other ranks
     void set_stage(const char* name);
     void add_stage_time(const std::string& name, double seconds);  // under mutex_
     void warn_once(const std::string& warning);
@@ -239,6 +249,7 @@ private:
     std::atomic<std::uint64_t> version_counter_{0};
     bool coarse_preview_ = false;
     int preview_block_ = preview_block;
+    RenderRegion region_;  // set_region(): the pixels the passes render (empty: all)
     std::thread worker_;
     std::atomic<bool> cancel_requested_{false};
     std::atomic<bool> running_{false};

@@ -5,6 +5,7 @@
 #include "core/scene/camera.h"
 #include "core/render/image.h"
 #include "core/integrators/integrator.h"
+#include "core/render/render_region.h"
 
 #include <atomic>
 #include <cstdint>
@@ -18,6 +19,17 @@ struct Tile {
 
 /// Splits an image into tiles of `size` pixels, row by row.
 std::vector<Tile> make_tiles(int width, int height, int size);
+
+/// The part of `tile` a pass renders: all of it without a region, else its overlap with the
+/// region (empty, x1 <= x0 or y1 <= y0, when the tile keeps its pixels).
+inline Tile region_part(const Tile& tile, const RenderRegion& region) {
+    if (region.empty()) return tile;
+    return {std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
+            std::min(tile.y1, region.y1)};
+}
+
+/// Whether a tile (or a part of one) has no pixels.
+inline bool tile_empty(const Tile& tile) { return tile.x1 <= tile.x0 || tile.y1 <= tile.y0; }
 
 /// Inputs shared by every tile of one render.
 struct TileContext {
