@@ -5,6 +5,7 @@
 uniform sampler2D u_image;     // RGB32F, row 0 = the image's top row (A: the current render)
 uniform sampler2D u_reference; // RGB32F of the same size (B), bound only when u_mode != 0
 uniform float u_exposure;      // multiplier, 2^stops
+uniform vec3 u_tonemap;        // weights of the curves clamp, Reinhard, filmic (image.frag)
 uniform bool u_srgb;
 uniform bool u_whole_pixels;   // magnified by a whole factor: fetch texels directly (cheaper in llvmpipe)
 uniform int u_mode;            // 0 image, 1 split (A left of u_split, B right), 2 |A - B| x u_gain, 3 relative error
@@ -26,6 +27,15 @@ vec3 fetch(sampler2D image) {
         return texelFetch(image, min(ivec2(v_uv * vec2(size)), size - 1), 0).rgb;
     }
     return texture(image, v_uv).rgb;
+}
+
+// The view transform's curves, as image.frag applies them.
+vec3 tone(vec3 x) {
+    vec3 clamped = min(x, 1.0);
+    vec3 reinhard = x / (1.0 + x);
+    vec3 f = min(x, 8.0);
+    vec3 filmic = min(f * (2.51 * f + 0.03) / (f * (2.43 * f + 0.59) + 0.14), 1.0);
+    return u_tonemap.x * clamped + u_tonemap.y * reinhard + u_tonemap.z * filmic;
 }
 
 // The relative error's colour ramp: keep in step with heat_colour() in ui/inspection.cpp.
@@ -52,7 +62,7 @@ void main() {
         out_colour = vec4(heat(t), 1.0);
         return;
     }
-    c = clamp(c * u_exposure, 0.0, 1.0);
+    c = tone(max(c * u_exposure, 0.0));
     if (u_srgb) c = srgb_encode(c);
     else c = floor(c * 255.0) / 255.0;  // as the batch PNG: x255 and truncated
     out_colour = vec4(c, 1.0);

@@ -86,7 +86,7 @@ void ImageView::set_reference(const Image& reference) {
                  reference.pixels.data());
 }
 
-void ImageView::draw(const ImageLayout& layout, glm::vec2 window, const DisplaySettings& display, const Compare& compare,
+void ImageView::draw(const ImageLayout& layout, glm::vec2 window, const ViewTransform& view, const Compare& compare,
                      glm::ivec4 clip) const {
     if (width_ <= 0 || height_ <= 0) return;
     const int mode = reference_matches() ? compare.mode : 0;
@@ -97,12 +97,14 @@ void ImageView::draw(const ImageLayout& layout, glm::vec2 window, const DisplayS
     const glm::vec2 size = layout.size();
     glUniform4f(program.uniform("u_rect"), layout.origin.x, layout.origin.y, size.x, size.y);
     glUniform2f(program.uniform("u_window"), window.x, window.y);
-    glUniform1f(program.uniform("u_exposure"), std::exp2(display.exposure));
+    glUniform1f(program.uniform("u_exposure"), std::exp2(view.exposure_stops));
+    const glm::vec3 curve = tonemap_weights(view.tonemap);
+    glUniform3f(program.uniform("u_tonemap"), curve.x, curve.y, curve.z);
     glUniform1i(program.uniform("u_image"), 0);
     if (mode == 0) {
-        glUniform1f(program.uniform("u_srgb"), display.srgb ? 1.0f : 0.0f);
+        glUniform1f(program.uniform("u_srgb"), view.srgb ? 1.0f : 0.0f);
     } else {
-        glUniform1i(program.uniform("u_srgb"), display.srgb ? 1 : 0);
+        glUniform1i(program.uniform("u_srgb"), view.srgb ? 1 : 0);
         glUniform1i(program.uniform("u_reference"), 1);
         glUniform1i(program.uniform("u_mode"), mode);
         glUniform1f(program.uniform("u_split"), compare.split);

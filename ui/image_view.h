@@ -1,5 +1,5 @@
 // The rendered image on screen: a float texture updated tile by tile (only the tiles the driver
-// copied this frame) and drawn with shaders/image.* (exposure and sRGB are display-only).
+// copied this frame) and drawn with shaders/image.* (exposure, tone curve and sRGB are display-only).
 #pragma once
 
 #include "ui/gl_program.h"
@@ -29,14 +29,15 @@ public:
     bool reference_matches() const { return reference_width_ > 0 && reference_width_ == width_ && reference_height_ == height_; }
 
     /// Draws the image where `layout` puts it in a window of `window` pixels, clipped to the
-    /// framebuffer rectangle `clip` (x, y from the bottom-left, width, height), with `compare`
+    /// framebuffer rectangle `clip` (x, y from the bottom-left, width, height), through `view`
+    /// (exposure, tone curve, encoding: ui/view_transform.h), with `compare`
     /// (shaders/image.frag's u_mode: 0 the image, 1 split, 2 difference, 3 relative error; modes
     /// other than 0 need a matching reference).
     struct Compare {
         int mode = 0;
         float split = 0.5f, gain = 1.0f, epsilon = 1e-3f;
     };
-    void draw(const ImageLayout& layout, glm::vec2 window, const DisplaySettings& display, const Compare& compare,
+    void draw(const ImageLayout& layout, glm::vec2 window, const ViewTransform& view, const Compare& compare,
               glm::ivec4 clip) const;
 
     /// Tiles and glTexSubImage2D calls of the last upload (for statistics and benchmarks).

@@ -1,4 +1,4 @@
-// The View section: camera, display (exposure, sRGB: shader only), resolution and threads, saving.
+// The View section: camera, display (exposure, tone curve, sRGB: shader only), resolution and threads, saving.
 #include "ui/panels.h"
 
 #include <imgui.h>
@@ -66,6 +66,22 @@ void render_region_row(ViewModel& model) {
          "its image; Ctrl+Alt+B or Clear region renders the whole image again");
 }
 
+/// The view transform's curve: the job's --tonemap, or one the person picks (a saved PNG uses it).
+void tone_curve_combo(ViewModel& model) {
+    DisplaySettings& display = model.display();
+    const ViewTransform shown = model.view_transform();
+    if (ImGui::BeginCombo("tone curve", tonemap_name(shown.tonemap))) {
+        for (Tonemap op : {Tonemap::clamp, Tonemap::reinhard, Tonemap::filmic})
+            if (ImGui::Selectable(tonemap_name(op), op == shown.tonemap)) display.tonemap = op;
+        ImGui::EndCombo();
+    }
+    hint("the --tonemap curve of a saved PNG, after the exposure (docs/OUTPUT.md): clamp (the original's), "
+         "reinhard x/(1+x), filmic (ACES fit); EXR and PFM stay linear");
+    ImGui::SameLine();
+    ImGui::TextDisabled("%+.1f stops", shown.exposure_stops);
+    hint("the job's --exposure plus the display's: what the viewport shows");
+}
+
 }  // namespace
 
 void draw_view_section(ViewModel& model, PanelState& state) {
@@ -93,6 +109,7 @@ void draw_view_section(ViewModel& model, PanelState& state) {
     ImGui::Separator();
     DisplaySettings& display = model.display();
     ImGui::SliderFloat("exposure (E)", &display.exposure, -6.0f, 6.0f, "%+.1f stops");
+    tone_curve_combo(model);
     ImGui::Checkbox("sRGB display (G)", &display.srgb);
     ImGui::SameLine();
     ImGui::TextDisabled("display only");

@@ -260,13 +260,13 @@ void ViewApp::update_inspection() {
     }
     // The histogram and the metrics: when the image or the exposure changed, at most 4 times a
     // second, on a grid of at most 32768 pixels (0.75 ms at 1280 x 720).
-    if (!driver.changed_tiles().empty() || driver.size_changed() || model_.display().exposure != stats_exposure_)
+    if (!driver.changed_tiles().empty() || driver.size_changed() || model_.view_transform().exposure_stops != stats_exposure_)
         inspect_.stats_due = true;
     const double now = now_seconds();
     if (inspect_.stats_due && now - inspect_.stats_at >= stats_interval) {
         const auto t0 = std::chrono::steady_clock::now();
         const int stride = sample_stride(image.width, image.height);
-        stats_exposure_ = model_.display().exposure;
+        stats_exposure_ = model_.view_transform().exposure_stops;
         inspect_.histogram = luminance_histogram(image, std::exp2(stats_exposure_), stride);
         inspect_.metrics = inspect_.reference.width > 0
                                ? compare_images(image, inspect_.reference, inspect_.epsilon, stride)
@@ -351,7 +351,7 @@ void ViewApp::draw(glm::vec2 window, int framebuffer_width, int framebuffer_heig
     compare.split = inspect_.split;
     compare.gain = std::exp2(inspect_.difference_stops);
     compare.epsilon = inspect_.epsilon;
-    image_->draw(layout_, window, model_.display(), compare, area);
+    image_->draw(layout_, window, model_.view_transform(), compare, area);
     if (model_.overlay().enabled) overlay_->draw(layout_, window, pixel_scale, area);
 }
 

@@ -286,10 +286,15 @@ SaveResult ViewModel::save(const std::string& path, bool overwrite) {
     if (!driver_.has_job()) return {SaveOutcome::failed, "nothing rendered yet"};
     const SessionProgress& progress = driver_.accumulation().accumulating ? driver_.accumulation() : driver_.progress();
     const std::string absolute = absolute_path(path);
+    // A PNG takes the curve shown, and the display's exposure too when asked; EXR and PFM stay
+    // linear (the job's --exposure only).
     std::optional<SaveToneSettings> tone;  // none: the job's --tonemap and --exposure, as `render` writes
-    if (display_.exposure_to_png && image_format_of(path) == ImageFormat::png)  // EXR and PFM stay linear
-        tone = SaveToneSettings{driver_.job().options.tonemap,
-                                static_cast<float>(driver_.job().options.exposure + display_.exposure)};
+    if (image_format_of(path) == ImageFormat::png) {
+        const ViewTransform shown = view_transform();
+        tone = SaveToneSettings{shown.tonemap, display_.exposure_to_png
+                                                   ? shown.exposure_stops
+                                                   : static_cast<float>(driver_.job().options.exposure)};
+    }
     // The script's own name (what Save proposes) is written as `caustica render` writes it: only
     // inside the current folder (docs/RELIABILITY.md, section 1). Any other name is the user's.
     const bool script_named = path == driver_.job().output;
@@ -298,6 +303,13 @@ SaveResult ViewModel::save(const std::string& path, bool overwrite) {
                                            progress, overwrite, tone, place);
     if (result.outcome == SaveOutcome::written) last_saved_ = absolute;
     return result;
+}
+
+ViewTransform ViewModel::view_transform() const {
+    const Options* job = driver_.has_job() ? &driver_.job().options : nullptr;
+    const Tonemap job_curve = job ? job->tonemap : Tonemap::clamp;
+    const double job_exposure = job ? job->exposure : 0.0;
+    return {display_.tonemap.value_or(job_curve), static_cast<float>(job_exposure + display_.exposure), display_.srgb};
 }
 
 bool ViewModel::rendering() const {

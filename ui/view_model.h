@@ -19,6 +19,7 @@
 #include "ui/preview_driver.h"
 #include "ui/save_image.h"
 #include "ui/scene_source.h"
+#include "ui/view_transform.h"
 
 #include <future>
 #include <memory>
@@ -44,11 +45,14 @@ struct ModelConfig {
 
 /// Display-only settings: applied in the shader, never re-rendered.
 struct DisplaySettings {
-    float exposure = 0.0f;  ///< stops: the image is multiplied by 2^exposure
+    float exposure = 0.0f;  ///< stops added to the job's --exposure: the image is multiplied by 2^(sum)
     bool srgb = false;      ///< sRGB transfer curve (else clamped linear, as the batch PNG)
     /// Saving a PNG applies this exposure on top of the job's --exposure (off: the PNG is what
     /// `caustica render` writes, whatever the display shows).
     bool exposure_to_png = false;
+    /// The tone curve the person picked (nullopt: the job's --tonemap). A saved PNG uses it, and
+    /// the command line gives it as --tonemap when it differs from the job's.
+    std::optional<Tonemap> tonemap;
 };
 
 /// What the projection-map overlay shows.
@@ -230,9 +234,13 @@ public:
     int threads() const;
     /// Sets the render threads (0 = all cores); only the image is rendered again.
     void set_threads(int threads);
-    /// Exposure and sRGB display (change them freely: display only).
+    /// Exposure, tone curve and sRGB display (change them freely: display only).
     DisplaySettings& display() { return display_; }
     const DisplaySettings& display() const { return display_; }
+    /// What the viewport shows: the job's --exposure plus the display's, the display's curve (or
+    /// the job's --tonemap), the sRGB choice; a PNG saved with "apply the display exposure" is
+    /// written with exactly this (docs/PREVIEW.md, "View transform").
+    ViewTransform view_transform() const;
 
     // --- overlay
     /// What the projection-map overlay shows.

@@ -200,6 +200,8 @@ std::vector<Difference> ViewModel::differences() const {
     if (inputs_.threads >= 0 && inputs_.threads != base_options(inputs_, true).threads)
         all.push_back({"threads", "threads", std::to_string(base_options(inputs_, true).threads),
                        std::to_string(inputs_.threads), ""});
+    if (display_.tonemap && *display_.tonemap != job.options.tonemap)  // a saved PNG takes the curve shown
+        all.push_back({"tonemap", "tone curve", tonemap_name(job.options.tonemap), tonemap_name(*display_.tonemap), ""});
     if (inputs_.resolution_scale != 1.0) {
         const int w = job.width, h = job.height;
         const double s = inputs_.resolution_scale;
@@ -245,6 +247,8 @@ void ViewModel::reset_difference(const std::string& id) {
     } else if (id == "threads") {
         inputs_.threads = -1;
         mark_dirty();
+    } else if (id == "tonemap") {
+        display_.tonemap.reset();
     } else if (id == "resolution") {
         set_resolution_scale(1.0);
     } else if (id == "camera") {
@@ -279,6 +283,8 @@ std::vector<std::string> ViewModel::person_tokens() const {
         }
     }
     if (job.options.threads != before.threads) tokens.insert(tokens.end(), {"--threads", std::to_string(job.options.threads)});
+    if (display_.tonemap && *display_.tonemap != job.options.tonemap)
+        tokens.insert(tokens.end(), {"--tonemap", tonemap_name(*display_.tonemap)});
     return tokens;
 }
 

@@ -101,40 +101,73 @@ TEST(Snapshot, PanelsAreWhereTheyBelong) {
     EXPECT_GT(status_bg, 100);
 }
 
-TEST(Snapshot, ImageRegionMatchesABatchRenderOfTheSameView) {
-    Preview preview;
-    ASSERT_TRUE(preview.settle()) << preview.model->error();
+/// How the preview's image region differs from the PNG `caustica render` writes of its scene.
+struct BatchComparison {
+    int worst = 0;        ///< largest channel difference, in 8-bit steps
+    long differing = 0;   ///< pixels with any difference
+    long mid_tones = 0;   ///< batch pixels whose green lies in (20, 235)
+    int pixels = 0;
+    float scale = 0.0f;   ///< the layout's magnification
+};
+
+/// Renders the preview's scene with `caustica render` (the view's options only: no preset of its
+/// own) and compares the window's image region with it, pixel by pixel.
+BatchComparison compare_with_batch(Preview& preview) {
     const std::vector<unsigned char> shot = preview.snapshot();
     const std::string reference = preview.folder.file("batch.png");
-    // What you see is what you save (docs/PREVIEW.md): the preview renders what `caustica render
-    // SCENE` with the view's options does, no preset of its own: the batch render is given the same
-    // options only.
     const std::string command = std::string(CAUSTICA_BINARY) + " render " + preview.scene + " -o " + reference +
                                 " --reproducible --threads 2 -s";
-    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    BatchComparison result;
+    if (std::system(command.c_str()) != 0) {
+        ADD_FAILURE() << command;
+        return result;
+    }
     const Png8 batch = read_png(reference);
     const ImageLayout layout = preview.app->layout();
-    ASSERT_EQ(batch.width, layout.image_width);
-    ASSERT_EQ(batch.height, layout.image_height);
-    EXPECT_EQ(layout.scale, 3.0f);  // 256 x 192 in the 910 x 720 image area: magnified three times
-    // Same job, same seed: the float images are identical. The batch encodes with
-    // floor(255 v) (the PNG truncates), so the display must show floor(255 v) / 255 too; GL's
-    // float-to-unorm conversion of that may round either way: at most one step apart, per
-    // channel, and only where the float product lands a hair off a whole step.
-    int worst = 0;
-    long differing = 0;
+    EXPECT_EQ(batch.width, layout.image_width);
+    EXPECT_EQ(batch.height, layout.image_height);
+    result.pixels = batch.width * batch.height;
+    result.scale = layout.scale;
     for (int y = 0; y < batch.height; ++y)
         for (int x = 0; x < batch.width; ++x) {
             const glm::vec2 w = layout.to_window({x + 0.5f, y + 0.5f});
             const Rgb s = pixel(shot, static_cast<int>(w.x), static_cast<int>(w.y));
             const unsigned char* b = &batch.data[(static_cast<std::size_t>(y) * batch.width + x) * batch.channels];
             const int d = std::max({std::abs(s.r - b[0]), std::abs(s.g - b[1]), std::abs(s.b - b[2])});
-            worst = std::max(worst, d);
-            differing += d > 0;
+            result.worst = std::max(result.worst, d);
+            result.differing += d > 0;
+            result.mid_tones += b[1] > 20 && b[1] < 235;
         }
-    std::printf("[ compare ] largest difference %d, %ld of %d pixels differ\n", worst, differing, batch.width * batch.height);
-    EXPECT_LE(worst, 1);
-    EXPECT_LT(differing, batch.width * batch.height / 100);
+    std::printf("[ compare ] largest difference %d, %ld of %d pixels differ\n", result.worst, result.differing,
+                result.pixels);
+    return result;
+}
+
+TEST(Snapshot, ImageRegionMatchesABatchRenderOfTheSameView) {
+    Preview preview;
+    ASSERT_TRUE(preview.settle()) << preview.model->error();
+    // What you see is what you save (docs/PREVIEW.md): the preview renders what `caustica render
+    // SCENE` with the view's options does. Same job, same seed: the float images are identical. The
+    // batch encodes with floor(255 v) (the PNG truncates), so the display must show
+    // floor(255 v) / 255 too; GL's float-to-unorm conversion of that may round either way: at most
+    // one step apart, per channel, and only where the float product lands a hair off a whole step.
+    const BatchComparison c = compare_with_batch(preview);
+    EXPECT_EQ(c.scale, 3.0f);  // 256 x 192 in the 910 x 720 image area: magnified three times
+    EXPECT_LE(c.worst, 1);
+    EXPECT_LT(c.differing, c.pixels / 100);
+}
+
+TEST(Snapshot, ViewTransformShowsWhatTheBatchPngHolds) {
+    // The scene's --tonemap and --exposure go through the viewport's shader (shaders/image.frag):
+    // the image region is the PNG `caustica render` writes with them, within the one step the
+    // plain image may differ by (ImageRegionMatchesABatchRenderOfTheSameView).
+    Preview preview(caustic_box_text(2000000, "gr.option('--tonemap filmic --exposure 1.5')\n"));
+    ASSERT_TRUE(preview.settle()) << preview.model->error();
+    ASSERT_EQ(preview.model->view_transform(), (ViewTransform{Tonemap::filmic, 1.5f, false}));
+    const BatchComparison c = compare_with_batch(preview);
+    EXPECT_LE(c.worst, 1);
+    EXPECT_LT(c.differing, c.pixels / 100);
+    EXPECT_GT(c.mid_tones, c.pixels / 10);  // the curve is exercised, not only black and white
 }
 
 TEST(Snapshot, OverlayIsDrawnWhereTheOutlineIs) {

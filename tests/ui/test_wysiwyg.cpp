@@ -613,5 +613,59 @@ TEST(Wysiwyg, CopiedCommandKeepsAllowReadAndTheDisplayExposureNeverScalesAnExr) 
     EXPECT_EQ(white, bright);
 }
 
+TEST(Wysiwyg, ViewTransformShowsTheBatchPngsToneCurveAndExposure) {
+    // The shaders' formula (display_value mirrors it) against core/io/tonemap and the PNG encoder,
+    // on a ramp through every curve's knee and past 1, at several exposures: the 8-bit value the
+    // viewport shows is the one `caustica render --tonemap X --exposure E` writes, within one step
+    // (float rounding of the curve may land either side of a step).
+    for (Tonemap op : {Tonemap::clamp, Tonemap::reinhard, Tonemap::filmic})
+        for (float stops : {-2.0f, 0.0f, 1.0f, 3.5f}) {
+            int worst = 0;
+            for (int i = 0; i <= 4096; ++i) {
+                const float linear = 16.0f * static_cast<float>(i) / 4096.0f;
+                const int shown = static_cast<int>(std::lround(255.0f * display_value(glm::vec3(linear), {op, stops, false}).x));
+                const int written = encode_channel(tonemap_channel(linear, op, stops), PixelEncoding::clamped_linear);
+                worst = std::max(worst, std::abs(shown - written));
+            }
+            EXPECT_LE(worst, 1) << tonemap_name(op) << " at " << stops << " stops";
+        }
+    // Reinhard keeps what clamping loses: 4 shows as 0.8, not white.
+    EXPECT_NEAR(display_value(glm::vec3(4.0f), {Tonemap::reinhard, 0.0f, false}).x, 204.0f / 255.0f, 1e-6f);
+}
+
+TEST(Wysiwyg, ThePickedToneCurveIsShownSavedAndOnTheCommandLine) {
+    TempFolder folder;
+    const std::string scene = folder.write("box.lua", tiny_box(3000, "gr.option('--exposure 1')\n"));
+    ViewModel model(config_with({"--reproducible"}));
+    model.open(scene);
+    ASSERT_TRUE(loaded(model, scene)) << model.error();
+    ASSERT_TRUE(run_until_finished(model, 30.0));
+    // The scene's own --exposure is shown: the viewport is what render writes.
+    EXPECT_EQ(model.view_transform(), (ViewTransform{Tonemap::clamp, 1.0f, false}));
+    model.display().exposure = 0.5f;
+    model.display().tonemap = Tonemap::filmic;
+    EXPECT_EQ(model.view_transform(), (ViewTransform{Tonemap::filmic, 1.5f, false}));
+    const std::vector<Difference> differences = model.differences();
+    ASSERT_TRUE(std::any_of(differences.begin(), differences.end(), [](const Difference& d) {
+        return d.id == "tonemap" && d.scene == "clamp" && d.shown == "filmic";
+    }));
+    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible --tonemap filmic");
+    // The PNG takes the curve shown (with the scene's exposure: the display's is added only when asked).
+    ASSERT_EQ(model.save(folder.file("a.png"), false).outcome, SaveOutcome::written);
+    const Png8 png = read_png(folder.file("a.png"));
+    const Image& image = model.driver().image();
+    ASSERT_EQ(png.width, image.width);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(png.data[(std::size_t(y) * png.width + x) * png.channels + c],
+                          encode_channel(tonemap_channel(image.at(x, y)[c], Tonemap::filmic, 1.0f),
+                                         PixelEncoding::clamped_linear))
+                    << x << ", " << y;
+    model.reset_difference("tonemap");
+    EXPECT_EQ(model.view_transform().tonemap, Tonemap::clamp);
+    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible");
+}
+
 }  // namespace
 }  // namespace caustica::ui
