@@ -186,7 +186,7 @@ int render_job(RenderSession& session, const AnimationFrame& frame, const std::s
                              passes, printable_text(saving->path).c_str());
         return exit_interrupted;
     }
-    const int code = write_frame(frame, scene_path, label, session.image(), session.stats());
+    const int code = write_frame(frame, scene_path, label, session.image(), session.stats(), nullptr, &session.layers());
     if (saving) save_final_state(session, *saving);  // also when Ctrl-C stopped the image's write
     return code;
 }
@@ -382,6 +382,8 @@ std::string render_help() {
            "                     image, if any (refused if it belongs to another scene, camera, size\n"
            "                     or options), and keep it saved there: every 30 s, at the end and on\n"
            "                     Ctrl-C; --passes, --time and --target-error count from its start\n"
+           "--layers (OUT.exr only) adds layers to the EXR: direct.R/G/B, indirect.*, caustic.*,\n"
+           "background.* (together the image), albedo.R/G/B and normal.X/Y/Z (docs/OUTPUT.md, Layers).\n"
            "The script runs sandboxed: it reads only regular files under its own folder, and\n"
            "--allow-read DIR (repeatable, command line only) lets it read under DIR too.\n"
            "Script names for gr.render are relative to the current folder, without '..', and\n"
@@ -421,6 +423,11 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
     std::exception_ptr error;
     try {
         early = plan_render(args, session, root, plan);
+        if (early < 0)
+            for (const AnimationFrame& frame : plan.plan.frames)
+                if (frame.job.options.layers)
+                    throw InputError("--layers renders in one process: under mpirun the ranks do not gather the "
+                                     "layers; run it without mpirun");
     } catch (...) {
         error = std::current_exception();
     }

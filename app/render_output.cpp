@@ -148,13 +148,24 @@ std::string stats_text(const RenderStats& stats, bool timing, bool statistics) {
 }
 
 int write_frame(const AnimationFrame& frame, const std::string& scene_path, const std::string& label, const Image& image,
-                const RenderStats& stats, const std::string* stats_from_rank) {
+                const RenderStats& stats, const std::string* stats_from_rank, const std::vector<LayerImage>* layers) {
     const RenderJob& job = frame.job;
     const std::string& path = frame.path;
     const Options& o = job.options;
     const OutputPlace place = frame.named_by_script ? OutputPlace::inside_current_folder : OutputPlace::anywhere;
     try {
-        write_image_atomic(path, image, write_settings(o), render_metadata(job, scene_path, stats, label), &interrupted, place);
+        const ImageMetadata metadata = render_metadata(job, scene_path, stats, label);
+        if (o.layers) {
+            // render_plan refused what cannot hold layers; an empty list here is a render that made none.
+            if (!layers || layers->empty()) throw std::logic_error("--layers: no layers were rendered for " + path);
+            std::vector<Image> scaled;
+            const std::vector<ExrChannel> channels =
+                layer_channels(image, *layers, static_cast<float>(o.exposure), scaled);
+            write_exr_channels_atomic(path, image.width, image.height, channels, o.exr_pixel, metadata, &interrupted,
+                                      place);
+        } else {
+            write_image_atomic(path, image, write_settings(o), metadata, &interrupted, place);
+        }
     } catch (const ImageWriteCancelled&) {
         if (!o.silent) std::fprintf(stderr, "caustica: interrupted; %s not written\n", printable_text(path).c_str());
         return exit_interrupted;

@@ -177,6 +177,8 @@ int plan_render(const std::vector<std::string>& args, RenderSession& session, bo
         const Options& o = frame.job.options;
         if (integrator_entry(o.integrator).accumulates && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
             throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
+        if (const std::string why = o.layers ? layers_refusal(o, frame.path) : std::string(); !why.empty())
+            throw parsed.output.empty() ? InputError(frame.job.where, "gr.render: " + why) : InputError(why);
     }
     if (parsed.resume)
         for (const AnimationFrame& frame : out.plan.frames)

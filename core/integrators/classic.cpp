@@ -87,8 +87,9 @@ ClassicIntegrator::Traced ClassicIntegrator::trace(const Ray& ray, int depth, fl
                                                    RayCounters& counters) const {
     SurfaceHit hit;
     if (!setup_.scene->intersect(ray, hit, setup_.cancel))
-        return {background_colour(setup_, ray.direction), ray_infinity};
-    if (depth > max_depth) return {glm::vec3(1.0f), hit.t};  // "deep rays": trapped light returns white
+        return {kept(setup_, ShadingLayer::background, background_colour(setup_, ray.direction)), ray_infinity};
+    if (depth > max_depth)  // "deep rays": trapped light returns white
+        return {kept(setup_, ShadingLayer::background, glm::vec3(1.0f)), hit.t};
     return {shade(ray, hit, depth, weight, nullptr, counters), hit.t};
 }
 
@@ -111,9 +112,10 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
 
     const float n_dot_v = glm::dot(n, to_eye);
     // Ambient, or the GI estimate replaces it ("GI term").
-    glm::vec3 colour = setup_.gi_map ? saturate_signed(kd * photon_estimate(*setup_.gi_map, hit.position,
-                                                                             params_.gi_neighbours, counters) * n_dot_v)
-                                     : setup_.ambient * kd;
+    glm::vec3 colour = kept(setup_, ShadingLayer::indirect,
+                            setup_.gi_map ? saturate_signed(kd * photon_estimate(*setup_.gi_map, hit.position,
+                                                                                 params_.gi_neighbours, counters) * n_dot_v)
+                                          : setup_.ambient * kd);
     for (std::size_t l = 0; l < setup_.lights.size(); ++l) {
         const Light& light = setup_.lights[l];
         glm::vec3 to_light;
@@ -121,13 +123,15 @@ glm::vec3 ClassicIntegrator::surface_colour(const Material& m, const SurfaceHit&
         if (!direction_to_light(light, hit.position, to_light, distance) || glm::dot(n, to_light) <= 0.0f) continue;
         const float known = known_visibility && l < static_cast<std::size_t>(packet_lights) ? known_visibility[l] : -1.0f;
         const float o = known >= 0.0f ? known : light_visibility(light, hit.position, counters);
-        colour = saturate_signed(colour + phong_light(light, o, hit.position, n, to_eye, kd, ks_weighted, m.shininess,
-                                                      setup_.unit_distance));
+        colour = saturate_signed(colour + kept(setup_, ShadingLayer::direct,
+                                               phong_light(light, o, hit.position, n, to_eye, kd, ks_weighted,
+                                                           m.shininess, setup_.unit_distance)));
     }
     // "estimate": the caustic term, E (n.v); kd is already in the photons.
     if (setup_.caustic_map && setup_.caustic_map->size() > min_caustic_photons && receives)
-        colour = saturate_signed(colour + photon_estimate(*setup_.caustic_map, hit.position, params_.caustic_neighbours,
-                                                          counters) * n_dot_v);
+        colour = saturate_signed(colour + kept(setup_, ShadingLayer::caustic,
+                                               photon_estimate(*setup_.caustic_map, hit.position,
+                                                               params_.caustic_neighbours, counters) * n_dot_v));
     // --show-projection-map: tint the surface green where a light's projection map is occupied.
     for (const auto& [map, light] : setup_.projection_maps) {
         const glm::vec3 d = hit.position - light;
@@ -147,6 +151,8 @@ glm::vec3 ClassicIntegrator::shade(const Ray& ray, const SurfaceHit& hit, int de
         kd = setup_.textures->diffuse(hit.material, hit, kd);
         n = setup_.textures->shading_normal(hit.material, hit, n);
     }
+    // --layers: the first surface's albedo or normal instead of its light (this is the camera ray's hit).
+    if (is_surface_layer(setup_.layer)) return setup_.layer == ShadingLayer::albedo ? kd : n;
     const glm::vec3 to_eye = -ray.direction;
     const float eps = setup_.scene->epsilon();
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/geometry/render_scene.h"
+#include "core/integrators/shading_layer.h"
 #include "core/photons/photon_map.h"
 #include "core/photons/projection_map.h"
 #include "core/render/random.h"
@@ -51,6 +52,9 @@ struct ShadingSetup {
     float dot_radius_per_distance = 0.0f;  ///< a pixel footprint's radius per unit of ray distance
     /// --show-projection-map: per light, the projection map (null when not built) and its position.
     std::vector<std::pair<const ProjectionMap*, glm::vec3>> projection_maps;
+    /// --layers: the part of the light kept (shading_layer.h); every term is still computed, so a
+    /// layer's paths are the image's, random numbers and all.
+    ShadingLayer layer = ShadingLayer::beauty;
 };
 
 /// How an integrator wants the pixels of an image sampled.

@@ -69,7 +69,7 @@ glm::vec3 ProgressiveIntegrator::trace(const Ray& ray, const PathState& path, Ra
         transmittance = medium_transmittance(m.medium_colour, found ? hit.t : ray_infinity, setup_.unit_distance);
     }
     // Saturated (radiance_range.h): the caller multiplies the result by a colour of up to 1e6.
-    if (!found) return saturate(transmittance * background(ray.direction));
+    if (!found) return saturate(transmittance * kept(setup_, ShadingLayer::background, background(ray.direction)));
     return saturate(transmittance * shade(ray, hit, path, random, counters));
 }
 
@@ -137,14 +137,18 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
         kd = setup_.textures->diffuse(hit.material, hit, kd);
         n = setup_.textures->shading_normal(hit.material, hit, n);
     }
+    // --layers: the first surface's albedo or normal instead of its light (shade() is reached
+    // through trace() only below the camera ray's own hit, and this returns before that).
+    if (is_surface_layer(setup_.layer)) return setup_.layer == ShadingLayer::albedo ? kd : n;
     const glm::vec3 to_eye = -ray.direction;
     if (m.transparent) return saturate(dielectric(ray, hit, m, n, kd, path, random, counters));
     glm::vec3 colour = setup_.draw_caustics_only
                            ? glm::vec3(0.0f)
-                           : setup_.ambient * kd + direct_light(m, kd, m.ks, hit, n, to_eye, path.known_visibility,
-                                                                random, counters);
+                           : kept(setup_, ShadingLayer::indirect, setup_.ambient * kd) +
+                                 kept(setup_, ShadingLayer::direct,
+                                      direct_light(m, kd, m.ks, hit, n, to_eye, path.known_visibility, random, counters));
     if ((setup_.caustic_map || params_.caustic_grid) && kd != glm::vec3(0.0f))
-        colour += caustic_radiance(hit, n, kd, path, path.distance + hit.t, counters);
+        colour += kept(setup_, ShadingLayer::caustic, caustic_radiance(hit, n, kd, path, path.distance + hit.t, counters));
     if (setup_.draw_caustic_map || !setup_.projection_maps.empty())
         colour = debug_overlays(hit, glm::length(hit.position - ray.origin), colour);
     if (m.reflective && path.depth < params_.max_depth) {
@@ -230,8 +234,9 @@ glm::vec3 ProgressiveIntegrator::dielectric(const Ray& ray, const SurfaceHit& hi
     // highlights are dim at normal incidence); air is only an interface.
     glm::vec3 colour(0.0f);
     if (!m.air && !setup_.draw_caustics_only)
-        colour = setup_.ambient * kd + direct_light(m, kd, reflectance * m.ks, hit, n, -ray.direction,
-                                                    path.known_visibility, random, counters);
+        colour = kept(setup_, ShadingLayer::indirect, setup_.ambient * kd) +
+                 kept(setup_, ShadingLayer::direct, direct_light(m, kd, reflectance * m.ks, hit, n, -ray.direction,
+                                                                 path.known_visibility, random, counters));
     if (path.depth >= params_.max_depth) return colour;
     // The medium colour (docs/SCENE_LANGUAGE.md): the reflected ray carries R ks; the transmitted
     // one (1 - R) and the medium's ks^(d/d_u), applied along the segment by trace(); no

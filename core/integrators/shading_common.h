@@ -19,6 +19,12 @@ glm::vec3 sunburst(const glm::vec3& direction, const glm::vec3& right, const glm
 /// The colour of a ray that leaves the scene: the sunburst under --rays, else the miss colour.
 glm::vec3 background_colour(const ShadingSetup& setup, const glm::vec3& direction);
 
+/// `term`, a contribution of kind `kind`, when the setup's layer keeps that kind, else black
+/// (--layers; shading_layer.h). The image's own setup keeps every term as it is.
+inline glm::vec3 kept(const ShadingSetup& setup, ShadingLayer kind, const glm::vec3& term) {
+    return keeps(setup.layer, kind) ? term : glm::vec3(0.0f);
+}
+
 /// "Phong", one light: C o [kd + ks' max(r.v, 0)^p (n.l)] (n.l) / (c0 + c1 d + c2 d^2), d in unit
 /// distances, where `visibility` is o. Returns 0 when n.l <= 0. `diffuse` off drops kd.
 glm::vec3 phong_light(const Light& light, float visibility, const glm::vec3& position, const glm::vec3& n,
@@ -57,7 +63,8 @@ void trace_packet8(const ShadingSetup& setup, const Ray* rays, const int* valid,
         if (!valid[i]) continue;
         ++counters.primary;
         const bool shaded = found[i] && !is_cancelled(setup.cancel);
-        out[i] = shaded ? shade(i, hits[i], visibility[i]) : background_colour(setup, rays[i].direction);
+        out[i] = shaded ? shade(i, hits[i], visibility[i])
+                        : kept(setup, ShadingLayer::background, background_colour(setup, rays[i].direction));
     }
 }
 

@@ -390,14 +390,24 @@ ImageMetadata read_exr_metadata(const std::string& path) {
 
 void write_exr_atomic(const std::string& path, const Image& image, ExrPixel pixel, const ImageMetadata& metadata,
                       const std::atomic<bool>* cancel, OutputPlace place) {
-    if (image.width <= 0 || image.height <= 0) throw std::runtime_error(path + ": cannot write an empty image");
+    write_exr_channels_atomic(path, image.width, image.height, {{"R", &image, 0}, {"G", &image, 1}, {"B", &image, 2}},
+                              pixel, metadata, cancel, place);
+}
+
+void write_exr_channels_atomic(const std::string& path, int width, int height, const std::vector<ExrChannel>& channels,
+                               ExrPixel pixel, const ImageMetadata& metadata, const std::atomic<bool>* cancel,
+                               OutputPlace place) {
+    if (width <= 0 || height <= 0) throw std::runtime_error(path + ": cannot write an empty image");
+    for (const ExrChannel& c : channels)
+        if (c.image && (c.image->width != width || c.image->height != height))
+            throw std::logic_error(path + ": channel " + c.name + " is not of the image's size");
     write_file_atomic(
         path,
         [&](std::FILE* file, std::string& error) {
             try {
-                Imf::Header header(image.width, image.height);  // ZIP compression, increasing Y
+                Imf::Header header(width, height);  // ZIP compression, increasing Y
                 const Imf::PixelType type = pixel == ExrPixel::half ? Imf::HALF : Imf::FLOAT;
-                for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(type));
+                for (const ExrChannel& c : channels) header.channels().insert(c.name, Imf::Channel(type));
                 for (const auto& [key, value] : metadata)  // printable, as the PNG's (png_io.cpp)
                     header.insert(key, Imf::StringAttribute(printable_text(value)));
                 FileOStream stream(file, path);
@@ -405,23 +415,23 @@ void write_exr_atomic(const std::string& path, const Image& image, ExrPixel pixe
                 // One row at a time through a row buffer (the slices' y stride is 0, so every row
                 // reads the same buffer): OpenEXR copies the row at writePixels, converts nothing
                 // (it refuses float data for half channels), and a cancel stops within a row.
-                const std::size_t w = static_cast<std::size_t>(image.width);
-                std::vector<Imath::half> half_row(pixel == ExrPixel::half ? w * 3 : 0);
-                std::vector<float> float_row(pixel == ExrPixel::float32 ? w * 3 : 0);
+                const std::size_t w = static_cast<std::size_t>(width), n = channels.size();
+                std::vector<Imath::half> half_row(pixel == ExrPixel::half ? w * n : 0);
+                std::vector<float> float_row(pixel == ExrPixel::float32 ? w * n : 0);
                 char* base = pixel == ExrPixel::half ? reinterpret_cast<char*>(half_row.data())
                                                      : reinterpret_cast<char*>(float_row.data());
                 const std::size_t channel_bytes = pixel == ExrPixel::half ? sizeof(Imath::half) : sizeof(float);
                 Imf::FrameBuffer frame;
-                for (int c = 0; c < 3; ++c)
-                    frame.insert(c == 0 ? "R" : c == 1 ? "G" : "B",
-                                 Imf::Slice(type, base + c * channel_bytes, 3 * channel_bytes, 0));
+                for (std::size_t c = 0; c < n; ++c)
+                    frame.insert(channels[c].name, Imf::Slice(type, base + c * channel_bytes, n * channel_bytes, 0));
                 out.setFrameBuffer(frame);
-                for (int y = 0; y < image.height; ++y) {
+                for (int y = 0; y < height; ++y) {
                     if (cancel && cancel->load(std::memory_order_relaxed)) return FileWriteOutcome::cancelled;
-                    for (int x = 0; x < image.width; ++x)
-                        for (int c = 0; c < 3; ++c) {
-                            const float v = image.at(x, y)[c];
-                            const std::size_t i = std::size_t(x) * 3 + c;
+                    for (int x = 0; x < width; ++x)
+                        for (std::size_t c = 0; c < n; ++c) {
+                            const ExrChannel& channel = channels[c];
+                            const float v = channel.image ? channel.image->at(x, y)[channel.component] : channel.constant;
+                            const std::size_t i = std::size_t(x) * n + c;
                             if (pixel == ExrPixel::half) half_row[i] = Imath::half(v);  // rounds to nearest
                             else float_row[i] = v;
                         }

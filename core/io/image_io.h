@@ -71,6 +71,23 @@ void write_pfm_atomic(const std::string& path, const Image& image, const std::at
 void write_exr_atomic(const std::string& path, const Image& image, ExrPixel pixel, const ImageMetadata& metadata = {},
                       const std::atomic<bool>* cancel = nullptr, OutputPlace place = OutputPlace::anywhere);
 
+/// One channel of an OpenEXR file: component `component` (0, 1, 2) of `image`, or `constant`
+/// everywhere when `image` is null (an alpha of 1).
+struct ExrChannel {
+    std::string name;  ///< "R", "caustic.G", "normal.X", ...
+    const Image* image = nullptr;
+    int component = 0;
+    float constant = 0.0f;
+};
+
+/// OpenEXR with the given channels, all `width` x `height` and of `pixel` type (scan lines, ZIP
+/// compression, `metadata` as string attributes), atomically as write_exr_atomic. Names with a
+/// dot make a multilayer file ("caustic.R": layer caustic, channel R), as Cycles and LuxCore
+/// write their passes. Values are written as they are (no exposure).
+void write_exr_channels_atomic(const std::string& path, int width, int height, const std::vector<ExrChannel>& channels,
+                               ExrPixel pixel, const ImageMetadata& metadata = {},
+                               const std::atomic<bool>* cancel = nullptr, OutputPlace place = OutputPlace::anywhere);
+
 /// The image a write would store: `image` x 2^exposure, then for PNG the tone curve (whose output
 /// write_png_atomic then encodes). With the defaults the result is `image` itself.
 Image prepare_for_format(const Image& image, ImageFormat format, const ImageWriteSettings& settings);

@@ -454,6 +454,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     const std::unique_ptr<Integrator> integrator = make_integrator(options.integrator, setup, options);
     TileContext context = make_context(options, camera, *integrator, cancel_requested_);
     PassRunner runner{*this, arena, {}};
+    layers_.clear();
 
     if (options.accumulates() && loop_) {
         Host host(*this, runner);
@@ -466,6 +467,9 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         const RenderRegion region = region_in_image();
         refine_.assign(static_cast<std::size_t>(width) * height, 0);
         context.refine = &refine_;
+        // Nothing unless --layers, and nothing in the preview (coarse passes), which shows no layers.
+        LayerRender layers(setup, options, width, height, !coarse_preview_);
+        context.layers = layers.targets();
         const bool antialias = has_antialiasing_pass(context);
         {
             std::lock_guard lock(mutex_);
@@ -491,6 +495,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
                     render_antialiasing_tile(context, part, first_pass_, image_, c);
             });
         }
+        if (!cancel_requested_) layers_ = layers.take_images();
     }
     RayCounters rays = runner.total();
     if (distributed()) {  // what every rank traced

@@ -19,6 +19,7 @@
 #include "core/render/scene_inspector.h"
 #include "core/render/cluster.h"
 #include "core/render/fingerprints.h"
+#include "core/render/render_layers.h"
 
 #include <tbb/task_arena.h>
 
@@ -152,6 +153,11 @@ public:
     /// The image; complete once wait() returned true. Tiles may be mid-render while running.
     const Image& image() const { return image_; }
 
+    /// --layers: the image's light split into layers (docs/OUTPUT.md, "Layers"), complete once
+    /// wait() returned true; empty without --layers, and for what renders no tile passes of its
+    /// own (a progressive accumulation, several ranks).
+    const std::vector<LayerImage>& layers() const { return layers_; }
+
     /// Copies into `out` the tiles published since the versions in `seen` (one per tile, updated),
     /// resizing `out` when the image size changed. Never waits for a tile being rendered. Call it
     /// from the thread that calls start(). Returns how many tiles were copied.
@@ -236,6 +242,7 @@ private:
     std::vector<std::string> warnings_;
 
     Image image_, first_pass_;
+    std::vector<LayerImage> layers_;  // --layers: those of the last complete tile passes
     std::vector<std::uint8_t> refine_;  // corner_grid: pixels the anti-aliasing pass refines
     // The progressive integrator's loop, kept across start()s so that resume() continues it.
     std::unique_ptr<RenderLoop> loop_;  // the job's integrator's own loop (null: the tile passes)

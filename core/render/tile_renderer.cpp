@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -64,8 +65,8 @@ float corner_difference(const glm::vec3 corners[4]) {
 namespace {
 
 /// Traces, for up to 8 pixels of a row, one sample each at the offset (ox, oy) inside the pixel.
-void trace_row8(const TileContext& context, int x, int x_end, int y, float ox, float oy, int pass, int width,
-                glm::vec3* out, RayCounters& counters) {
+void trace_row8(const TileContext& context, const Integrator& integrator, int x, int x_end, int y, float ox, float oy,
+                int pass, int width, glm::vec3* out, RayCounters& counters) {
     Ray rays[8];
     int valid[8];
     RandomStream streams[8] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}};
@@ -75,57 +76,98 @@ void trace_row8(const TileContext& context, int x, int x_end, int y, float ox, f
         // One stream per pixel and pass: the result never depends on which thread runs the tile.
         streams[i] = RandomStream(context.seed, static_cast<std::uint64_t>(y) * width + x + i, pass);
     }
-    context.integrator->trace_camera_rays8(rays, valid, streams, out, counters);
+    integrator.trace_camera_rays8(rays, valid, streams, out, counters);
     for (int i = 0; i < 8; ++i) counters.samples += valid[i] ? 1 : 0;
+}
+
+/// The first samples of up to 8 pixels of a row through `integrator` into `out`; with
+/// `record_refine`, the classic anti-aliasing's choice of the pixels to refine. False when cancelled.
+bool first_samples8(const TileContext& context, const Integrator& integrator, int x, int x_end, int y, Image& out,
+                    bool record_refine, RayCounters& counters) {
+    const int count = std::min(8, x_end - x);
+    if (integrator.pixel_sampling() != PixelSampling::corner_grid) {
+        glm::vec3 c[8];
+        trace_row8(context, integrator, x, x_end, y, 0.5f, 0.5f, 0, out.width, c, counters);
+        if (is_cancelled(context.cancel)) return false;
+        for (int i = 0; i < count; ++i) {
+            out.at(x + i, y) = c[i];
+            check_pixel(c[i], x + i, y);
+        }
+        return true;
+    }
+    // Classic anti-aliasing: the whole regular grid when g <= 2, else its four corner samples.
+    const int g = std::max(context.aa_grid, 1);
+    const float cell = 1.0f / static_cast<float>(g);
+    glm::vec3 sum[8] = {};
+    glm::vec3 corner[8][4];
+    int k = 0;
+    for (int sy = 0; sy < g; ++sy) {
+        for (int sx = 0; sx < g; ++sx) {
+            const bool is_corner = (sx == 0 || sx == g - 1) && (sy == 0 || sy == g - 1);
+            if (g > 2 && !is_corner) continue;
+            glm::vec3 c[8];
+            trace_row8(context, integrator, x, x_end, y, (static_cast<float>(sx) + 0.5f) * cell,
+                       (static_cast<float>(sy) + 0.5f) * cell, 0, out.width, c, counters);
+            if (is_cancelled(context.cancel)) return false;
+            for (int i = 0; i < count; ++i) {
+                sum[i] += c[i];
+                if (k < 4) corner[i][k] = c[i];
+            }
+            ++k;
+        }
+    }
+    for (int i = 0; i < count; ++i) {
+        out.at(x + i, y) = sum[i] / static_cast<float>(k);
+        check_pixel(out.at(x + i, y), x + i, y);
+        if (record_refine && g > 2 && context.refine)
+            (*context.refine)[static_cast<std::size_t>(y) * out.width + x + i] =
+                corner_difference(corner[i]) > context.aa_threshold;
+    }
+    return true;
+}
+
+/// The anti-aliased value of pixel (x, y) through `integrator`, whose first pass gave `first`;
+/// nullopt when cancelled.
+std::optional<glm::vec3> antialiased_pixel(const TileContext& context, const Integrator& integrator, int x, int y,
+                                           int width, const glm::vec3& first, RayCounters& counters) {
+    const bool corners = integrator.pixel_sampling() == PixelSampling::corner_grid;
+    const int n = context.aa_grid;
+    const float cell = 1.0f / static_cast<float>(n);
+    RandomStream random(context.seed, static_cast<std::uint64_t>(y) * width + x, 1);
+    // corner_grid: the four corners are in the first pass's mean already.
+    glm::vec3 sum = corners ? 4.0f * first : glm::vec3(0.0f);
+    for (int sy = 0; sy < n; ++sy) {
+        for (int sx = 0; sx < n; ++sx) {
+            float ox, oy;
+            if (corners) {
+                if ((sx == 0 || sx == n - 1) && (sy == 0 || sy == n - 1)) continue;
+                ox = (static_cast<float>(sx) + 0.5f) * cell;
+                oy = (static_cast<float>(sy) + 0.5f) * cell;
+            } else {
+                ox = (static_cast<float>(sx) + random.uniform()) * cell;
+                oy = (static_cast<float>(sy) + random.uniform()) * cell;
+            }
+            sum += integrator.trace_camera_ray(
+                context.camera->generate(static_cast<float>(x) + ox, static_cast<float>(y) + oy), random, counters);
+            if (is_cancelled(context.cancel)) return std::nullopt;
+            ++counters.samples;
+        }
+    }
+    return sum / static_cast<float>(n * n);
 }
 
 }  // namespace
 
 void render_first_pass_tile(const TileContext& context, const Tile& tile, Image& out, RayCounters& counters) {
-    const bool corners = context.integrator->pixel_sampling() == PixelSampling::corner_grid;
-    const int g = corners ? std::max(context.aa_grid, 1) : 1;
-    for (int y = tile.y0; y < tile.y1; ++y) {
+    RayCounters layer_counters;  // the layers' rays are not the render's
+    for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += 8) {
-            const int count = std::min(8, tile.x1 - x);
-            if (!corners) {
-                glm::vec3 c[8];
-                trace_row8(context, x, tile.x1, y, 0.5f, 0.5f, 0, out.width, c, counters);
-                if (is_cancelled(context.cancel)) return;
-                for (int i = 0; i < count; ++i) {
-                    out.at(x + i, y) = c[i];
-                    check_pixel(c[i], x + i, y);
-                }
-                continue;
-            }
-            // Classic anti-aliasing: the whole regular grid when g <= 2, else its four corner samples.
-            const float cell = 1.0f / static_cast<float>(g);
-            glm::vec3 sum[8] = {};
-            glm::vec3 corner[8][4];
-            int k = 0;
-            for (int sy = 0; sy < g; ++sy) {
-                for (int sx = 0; sx < g; ++sx) {
-                    const bool is_corner = (sx == 0 || sx == g - 1) && (sy == 0 || sy == g - 1);
-                    if (g > 2 && !is_corner) continue;
-                    glm::vec3 c[8];
-                    trace_row8(context, x, tile.x1, y, (static_cast<float>(sx) + 0.5f) * cell,
-                               (static_cast<float>(sy) + 0.5f) * cell, 0, out.width, c, counters);
-                    if (is_cancelled(context.cancel)) return;
-                    for (int i = 0; i < count; ++i) {
-                        sum[i] += c[i];
-                        if (k < 4) corner[i][k] = c[i];
-                    }
-                    ++k;
-                }
-            }
-            for (int i = 0; i < count; ++i) {
-                out.at(x + i, y) = sum[i] / static_cast<float>(k);
-                check_pixel(out.at(x + i, y), x + i, y);
-                if (g > 2 && context.refine)
-                    (*context.refine)[static_cast<std::size_t>(y) * out.width + x + i] =
-                        corner_difference(corner[i]) > context.aa_threshold;
-            }
+            if (!first_samples8(context, *context.integrator, x, tile.x1, y, out, true, counters)) return;
+            if (context.layers)
+                for (const LayerTarget& layer : *context.layers)
+                    if (!first_samples8(context, *layer.integrator, x, tile.x1, y, *layer.image, false, layer_counters))
+                        return;
         }
-    }
 }
 
 bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold) {
@@ -144,8 +186,7 @@ bool needs_antialiasing(const Image& first_pass, int x, int y, float threshold) 
 void render_antialiasing_tile(const TileContext& context, const Tile& tile, const Image& first_pass, Image& out,
                               RayCounters& counters) {
     const bool corners = context.integrator->pixel_sampling() == PixelSampling::corner_grid;
-    const int n = context.aa_grid;
-    const float cell = 1.0f / static_cast<float>(n);
+    RayCounters layer_counters;  // the layers' rays are not the render's
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
             const bool refine = corners ? context.refine && (*context.refine)[static_cast<std::size_t>(y) * first_pass.width + x]
@@ -156,29 +197,20 @@ void render_antialiasing_tile(const TileContext& context, const Tile& tile, cons
                 out.at(x, y) = glm::vec3(1.0f, 0.0f, 0.0f);
                 continue;
             }
-            RandomStream random(context.seed, static_cast<std::uint64_t>(y) * first_pass.width + x, 1);
-            // corner_grid: the four corners are in the first pass's mean already.
-            glm::vec3 sum = corners ? 4.0f * first_pass.at(x, y) : glm::vec3(0.0f);
-            for (int sy = 0; sy < n; ++sy) {
-                for (int sx = 0; sx < n; ++sx) {
-                    float ox, oy;
-                    if (corners) {
-                        if ((sx == 0 || sx == n - 1) && (sy == 0 || sy == n - 1)) continue;
-                        ox = (static_cast<float>(sx) + 0.5f) * cell;
-                        oy = (static_cast<float>(sy) + 0.5f) * cell;
-                    } else {
-                        ox = (static_cast<float>(sx) + random.uniform()) * cell;
-                        oy = (static_cast<float>(sy) + random.uniform()) * cell;
-                    }
-                    sum += context.integrator->trace_camera_ray(
-                        context.camera->generate(static_cast<float>(x) + ox, static_cast<float>(y) + oy), random,
-                        counters);
-                    if (is_cancelled(context.cancel)) return;
-                    ++counters.samples;
-                }
-            }
-            out.at(x, y) = sum / static_cast<float>(n * n);
+            const std::optional<glm::vec3> value =
+                antialiased_pixel(context, *context.integrator, x, y, first_pass.width, first_pass.at(x, y), counters);
+            if (!value) return;
+            out.at(x, y) = *value;
             check_pixel(out.at(x, y), x, y);
+            if (!context.layers) continue;
+            // A layer pixel holds its first pass until here: the only value of it this reads.
+            for (const LayerTarget& layer : *context.layers) {
+                Image& image = *layer.image;
+                const std::optional<glm::vec3> v =
+                    antialiased_pixel(context, *layer.integrator, x, y, first_pass.width, image.at(x, y), layer_counters);
+                if (!v) return;
+                image.at(x, y) = *v;
+            }
         }
     }
 }

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <vector>
 
 namespace caustica {
 
@@ -31,6 +32,14 @@ inline Tile region_part(const Tile& tile, const RenderRegion& region) {
 /// Whether a tile (or a part of one) has no pixels.
 inline bool tile_empty(const Tile& tile) { return tile.x1 <= tile.x0 || tile.y1 <= tile.y0; }
 
+/// One image of --layers: an integrator that keeps one layer (ShadingSetup::layer) and the image
+/// its samples fill, sampled exactly as the image is (the same rays and random streams; the
+/// anti-aliasing pass refines the pixels the image's own samples chose).
+struct LayerTarget {
+    const Integrator* integrator = nullptr;
+    Image* image = nullptr;
+};
+
 /// Inputs shared by every tile of one render.
 struct TileContext {
     const Integrator* integrator = nullptr;
@@ -46,6 +55,9 @@ struct TileContext {
     /// sample) being traced and writes nothing of it: what was traced then is not the scene's.
     /// The tile is left incomplete, never to be shown (docs/RELIABILITY.md, "Bounded time").
     const std::atomic<bool>* cancel = nullptr;
+    /// --layers: the images the first and anti-aliasing passes also fill (null or empty: none).
+    /// Their rays are not counted in the statistics.
+    const std::vector<LayerTarget>* layers = nullptr;
 };
 
 /// Whether the image needs the anti-aliasing pass after the first one.

@@ -269,6 +269,10 @@ const std::vector<OptionSpec>& option_table() {
                          "channel type of -o OUT.exr: 16-bit half (11 significant bits) or 32-bit float (exact)",
                          &Options::exr_pixel, {{"half", ExrPixel::half}, {"float", ExrPixel::float32}})
             .feeds(stage_output),
+        flag("layers", 0, "output",
+             "also write the light split into layers: direct, indirect, caustic, background (they sum to the "
+             "image), albedo, normal, in a multilayer -o OUT.exr (docs/OUTPUT.md)",
+             &Options::layers).feeds(stage_image),
         resolution("minres", "render at 100 x 100", 100).feeds(stage_image),
         resolution("lores", "render at 256 x 256", 256).feeds(stage_image),
         resolution("midres", "render at 512 x 512", 512).feeds(stage_image),

@@ -47,6 +47,7 @@ struct Options {
     bool draw_gi_map = false;      ///< GI photons as dots (implies the GI map)
     bool draw_gi_only = false;     ///< only the GI estimate (implies the GI map)
     bool srgb = false;             ///< encode sRGB in the PNG (default: clamp, linear, as the original)
+    bool layers = false;           ///< --layers: also render the light split into layers (a multilayer EXR)
     int resolution_override = 0;   ///< --minres/--lores/--midres/--hires: square size, 0 = as scripted
     Tonemap tonemap = Tonemap::clamp;  ///< --tonemap: PNG only (the default clamps, as the original)
     double exposure = 0.0;         ///< --exposure: stops, every output format

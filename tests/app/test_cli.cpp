@@ -8,6 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <ImfChannelList.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+
 #include <algorithm>
 #include <chrono>
 #include <csignal>
@@ -161,6 +165,28 @@ TEST_F(Cli, AProjectSceneChoosesItsIntegratorWithGrOptionAndTheCommandLineWins) 
     EXPECT_EQ(integrator_of("own.png"), "progressive");
     ASSERT_EQ(run(small + "--integrator classic " + scene + " -o classic.png").code, 0);
     EXPECT_EQ(integrator_of("classic.png"), "classic");
+}
+
+TEST_F(Cli, LayersAreWrittenToAMultilayerExrOnly) {
+    write("scene.lua", small_scene);
+    const Result png = run("render --layers scene.lua -o x.png");
+    EXPECT_EQ(png.code, 2);
+    EXPECT_NE(png.output.find("--layers: 'x.png': layers need an OpenEXR output (.exr)"), std::string::npos) << png.output;
+    EXPECT_TRUE(pngs().empty());
+    // Given in the script, the refusal names the gr.render that would write the PNG.
+    write("named.lua", std::string("gr.option('--layers')\n") + small_scene);
+    const Result named = run("render named.lua");
+    EXPECT_EQ(named.code, 2);
+    EXPECT_NE(named.output.find("named.lua:8: gr.render: --layers: 'out.png'"), std::string::npos) << named.output;
+    EXPECT_TRUE(pngs().empty());
+
+    ASSERT_EQ(run("render --layers scene.lua -o x.exr").code, 0);
+    Imf::InputFile file((dir_ / "x.exr").c_str());
+    std::vector<std::string> names;
+    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) names.push_back(it.name());
+    for (const char* name : {"R", "G", "B", "A", "direct.R", "indirect.G", "caustic.B", "background.R", "albedo.G", "normal.Z"})
+        EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+    EXPECT_EQ(names.size(), 22u);
 }
 
 TEST_F(Cli, MissingSceneFile) {

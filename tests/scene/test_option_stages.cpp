@@ -59,6 +59,7 @@ const std::map<std::string, std::vector<std::string>>& other_values() {
         {"tonemap", {"--tonemap filmic"}},
         {"exposure", {"--exposure 1"}},
         {"exr-pixel", {"--exr-pixel float"}},
+        {"layers", {"--layers"}},
         {"minres", {"--minres"}},
         {"lores", {"--lores"}},
         {"midres", {"--midres"}},
