@@ -9,8 +9,8 @@
 #include "core/io/atomic_file.h"
 #include "core/io/image_io.h"
 #include "core/lua/scene_loader.h"
+#include "core/render/orbit_target.h"
 #include "core/render/render_session.h"
-#include "core/scene/camera.h"
 #include "core/util/printable_text.h"
 
 #include <cstdio>
@@ -96,19 +96,15 @@ std::string job_size(const RenderJob& job) {
     return std::to_string(r ? r : job.width) + " x " + std::to_string(r ? r : job.height);
 }
 
-/// The distance from the eye of `job` to the first surface its central view ray hits (0 when it
-/// hits nothing): the target --orbit-frames turns around, found as the preview finds its orbit's
-/// target. Builds the scene, which the frames then reuse (the session caches it by its geometry's
-/// fingerprint). Rethrows scene errors.
+/// The distance from the eye of `job`, along its view, to the centre of what it sees (0 when it
+/// sees nothing): the target --orbit-frames turns around, found as the preview finds its orbit's
+/// target (visible_centre_distance). Builds the scene, which the frames then reuse (the session
+/// caches it by its geometry's fingerprint). Rethrows scene errors.
 double view_axis_target(RenderSession& session, const RenderJob& job) {
     session.set_job(job);
     session.prepare_geometry();
     const int r = job.options.resolution_override;
-    const int width = r ? r : job.width, height = r ? r : job.height;
-    const Camera camera(job.camera, width, height);
-    glm::vec3 point;
-    if (!session.pick(camera.generate(0.5f * width, 0.5f * height), point)) return 0.0;
-    return glm::length(glm::dvec3(point) - job.camera.eye);
+    return visible_centre_distance(session, job.camera, r ? r : job.width, r ? r : job.height);
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 #include "ui/inspection.h"
 
+#include "core/io/image_io.h"
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace caustica::ui {
@@ -174,6 +177,24 @@ void ImageZoom::pan(const ImageLayout& current, glm::vec2 area_origin, glm::vec2
     }
     centre -= delta / scale;
     clamp(current.image_width, current.image_height);
+}
+
+std::array<std::string, 4> histogram_axis_labels() {
+    std::array<std::string, 4> labels;
+    for (int i = 0; i < 4; ++i) {
+        const float exponent = LuminanceHistogram::log_lo + (LuminanceHistogram::log_hi - LuminanceHistogram::log_lo) * i / 3.0f;
+        char text[16];
+        if (exponent < -2.5f) std::snprintf(text, sizeof text, "1e%.0f", static_cast<double>(exponent));
+        else std::snprintf(text, sizeof text, "%g", std::pow(10.0, static_cast<double>(exponent)));
+        labels[i] = text;
+    }
+    return labels;
+}
+
+std::string reference_range_note(const std::string& path) {
+    if (image_format_of(path) != ImageFormat::png) return {};
+    return "B is an 8-bit PNG: values clamped to 0..1 in steps of 1/255, while A is the HDR render, so they differ "
+           "wherever A is above 1 or very dark. Load an EXR or PFM to compare radiance.";
 }
 
 void ImageZoom::clamp(int width, int height) {

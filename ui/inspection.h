@@ -78,6 +78,15 @@ struct PixelReadout {
     std::optional<glm::vec3> reference;  ///< the reference's pixel, when one of the same size is loaded
 };
 
+/// The labels of the histogram's x axis, evenly spaced from its left edge to its right: every
+/// second decade of luminance from 10^log_lo to 10^log_hi ("1e-4", "0.01", "1", "100").
+std::array<std::string, 4> histogram_axis_labels();
+
+/// What the A/B comparison must say about a reference read from `path`: a PNG holds 8-bit values
+/// clamped to [0, 1] while the shown image is HDR, so they differ wherever the shown image leaves
+/// that range ("" for EXR and PFM, which hold the radiance).
+std::string reference_range_note(const std::string& path);
+
 /// The pixel of `image` containing image point `p` (pixels are unit squares from (0, 0)).
 PixelReadout read_pixel(const Image& image, glm::vec2 p, const Image* reference = nullptr);
 

@@ -1,5 +1,6 @@
 // The Caustics section: live knobs of the photon map, the debug views and the overlay settings.
 #include "ui/panels.h"
+#include "ui/tooltip.h"
 
 #include "core/integrators/registry.h"
 
@@ -15,10 +16,6 @@
 
 namespace caustica::ui {
 namespace {
-
-void hint(const char* text) {
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
-}
 
 void overlay_settings(ViewModel& model, PanelState& state) {
     OverlaySettings overlay = model.overlay();
@@ -315,7 +312,7 @@ void differences_rows(ViewModel& model) {
             ImGui::TextUnformatted(d.label.c_str());
             ImGui::TableNextColumn();
             ImGui::TextWrapped("%s -> %s", d.scene.c_str(), d.shown.c_str());
-            if (!d.note.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d.note.c_str());
+            if (!d.note.empty()) hint(d.note.c_str());
             ImGui::TableNextColumn();
             ImGui::PushID(d.id.c_str());
             if (ImGui::SmallButton("reset")) model.reset_difference(d.id);

@@ -1,9 +1,12 @@
 // The Inspect section, the hover readout and the sidebar toggle (ui/panel_inspect.h).
 #include "ui/panel_inspect.h"
 
+#include "ui/hover_readout.h"
+
 #include <imgui.h>
 
-#include <cfloat>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -21,6 +24,34 @@ std::string percent(double fraction) {
 std::string short_where(const std::string& where) {
     const std::size_t slash = where.find_last_of('/');
     return slash == std::string::npos ? where : where.substr(slash + 1);
+}
+
+/// Labels under a strip `width` wide (the heat legend, the histogram), evenly spaced from its left
+/// edge to its right, each kept within the strip.
+void draw_axis_labels(float width, const char* const* labels, int count) {
+    const float y = ImGui::GetCursorPosY();
+    for (int i = 0; i < count; ++i) {
+        const float w = ImGui::CalcTextSize(labels[i]).x;
+        float x = width * static_cast<float>(i) / static_cast<float>(count - 1) - 0.5f * w;
+        x = std::fmax(0.0f, std::fmin(x, width - w));
+        ImGui::SetCursorPosX(ImGui::GetCursorStartPos().x + x);
+        ImGui::SetCursorPosY(y);
+        ImGui::TextUnformatted(labels[i]);
+    }
+}
+
+/// The histogram of the displayed luminance with its axes: the fraction of pixels up to the
+/// fullest bin, luminance on a log scale below.
+void draw_histogram(const LuminanceHistogram& h) {
+    const float fullest = *std::max_element(h.bins.begin(), h.bins.end());
+    ImGui::TextDisabled("pixels per bin (top: %s of them)", percent(fullest).c_str());
+    const float width = ImGui::GetContentRegionAvail().x;
+    ImGui::PlotHistogram("##histogram", h.bins.data(), LuminanceHistogram::bin_count, 0, nullptr, 0.0f,
+                         fullest > 0.0f ? fullest : 1.0f, ImVec2(width, 56.0f));
+    const std::array<std::string, 4> labels = histogram_axis_labels();
+    const char* const texts[4] = {labels[0].c_str(), labels[1].c_str(), labels[2].c_str(), labels[3].c_str()};
+    draw_axis_labels(width, texts, 4);
+    ImGui::TextDisabled("luminance after exposure, log scale (1 = white)");
 }
 
 }  // namespace
@@ -47,16 +78,8 @@ void draw_heat_legend(float width) {
     }
     ImGui::Dummy(ImVec2(width, height));
     // Labels at t = 0, 1/3, 2/3, 1: 0.1 %, 1 %, 10 %, 100 %.
-    const char* labels[4] = {"<=0.1%", "1%", "10%", ">=100%"};
-    const float y = ImGui::GetCursorPosY();
-    for (int i = 0; i < 4; ++i) {
-        const float w = ImGui::CalcTextSize(labels[i]).x;
-        float x = width * static_cast<float>(i) / 3.0f - 0.5f * w;
-        x = std::fmax(0.0f, std::fmin(x, width - w));
-        ImGui::SetCursorPosX(ImGui::GetCursorStartPos().x + x);
-        ImGui::SetCursorPosY(y);
-        ImGui::TextUnformatted(labels[i]);
-    }
+    const char* const labels[4] = {"<=0.1%", "1%", "10%", ">=100%"};
+    draw_axis_labels(width, labels, 4);
 }
 
 void draw_inspect_section(InspectState& state, const ViewModel& model) {
@@ -70,10 +93,7 @@ void draw_inspect_section(InspectState& state, const ViewModel& model) {
     ImGui::PushItemWidth(-150.0f);
     // Histogram of the displayed luminance, log10 from 10^-4 to 10^2 (1 = white).
     const LuminanceHistogram& h = state.histogram;
-    char overlay[96];
-    std::snprintf(overlay, sizeof overlay, "luminance 1e-4 .. 1e2 (white = 1)");
-    ImGui::PlotHistogram("##histogram", h.bins.data(), LuminanceHistogram::bin_count, 0, overlay, 0.0f, FLT_MAX,
-                         ImVec2(ImGui::GetContentRegionAvail().x, 56.0f));
+    draw_histogram(h);
     ImGui::Text("clipped %s   black %s", percent(h.clipped).c_str(), percent(h.black).c_str());
     if (h.invalid > 0.0f) {
         ImGui::SameLine();
@@ -99,6 +119,12 @@ void draw_inspect_section(InspectState& state, const ViewModel& model) {
         ImGui::TextDisabled("no reference: Snapshot or Load");
     } else {
         ImGui::Text("B: %s (%d x %d)", state.reference_name.c_str(), state.reference.width, state.reference.height);
+        const std::string range = reference_range_note(state.reference_name);
+        if (!range.empty()) {
+            ImGui::PushTextWrapPos(0.0f);
+            ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.3f, 1.0f), "%s", range.c_str());
+            ImGui::PopTextWrapPos();
+        }
         if (state.reference.width != image.width || state.reference.height != image.height)
             ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.35f, 1.0f), "not compared: the image is %d x %d", image.width,
                                image.height);
@@ -121,7 +147,7 @@ void draw_inspect_section(InspectState& state, const ViewModel& model) {
     ImGui::PopItemWidth();
 }
 
-void draw_hover_readout(const InspectState& state, const ImageLayout& layout, glm::vec2 area) {
+void draw_hover_readout(InspectState& state, const ImageLayout& layout, glm::vec2 area) {
     if (!state.readout || !state.hover || !state.pixel.valid) return;
     const PixelReadout& p = state.pixel;
     if (layout.scale >= 4.0f) {  // the pixel read, outlined when pixels are big enough to see
@@ -129,10 +155,10 @@ void draw_hover_readout(const InspectState& state, const ImageLayout& layout, gl
         ImGui::GetBackgroundDrawList()->AddRect(ImVec2(lo.x - 1.0f, lo.y - 1.0f), ImVec2(hi.x + 1.0f, hi.y + 1.0f),
                                                 IM_COL32(255, 60, 200, 255));
     }
-    // Beside the cursor, on the side with more room (it never leaves the image area).
-    const bool left = state.hover->x > 0.5f * area.x, up = state.hover->y > 0.5f * area.y;
-    ImGui::SetNextWindowPos(ImVec2(state.hover->x + (left ? -18.0f : 18.0f), state.hover->y + (up ? -18.0f : 18.0f)),
-                            ImGuiCond_Always, ImVec2(left ? 1.0f : 0.0f, up ? 1.0f : 0.0f));
+    // Clear of the cursor and inside the image area (ui/hover_readout.h), by the box's size in the
+    // last frame (it changes little from one pixel to the next).
+    const glm::vec2 at = readout_position(*state.hover, state.readout_size, area);
+    ImGui::SetNextWindowPos(ImVec2(at.x, at.y), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.8f);
     const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
                                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoInputs |
@@ -161,6 +187,7 @@ void draw_hover_readout(const InspectState& state, const ImageLayout& layout, gl
     } else {
         ImGui::TextDisabled("background (no surface)");
     }
+    state.readout_size = glm::vec2(ImGui::GetWindowSize().x, ImGui::GetWindowSize().y);
     ImGui::End();
 }
 

@@ -51,6 +51,7 @@ struct InspectState {
     glm::ivec2 inspected{-1, -1};          ///< the pixel `surface` belongs to
     std::uint64_t inspected_generation = ~std::uint64_t(0);
     std::uint64_t inspected_maps = ~std::uint64_t(0);
+    glm::vec2 readout_size{260.0f, 130.0f};  ///< the readout box's size in the last frame drawn
 
     // Requests from the panel, carried out by ViewApp in the same frame.
     bool snapshot_requested = false, load_requested = false, clear_requested = false;
@@ -62,9 +63,9 @@ inline constexpr double stats_interval = 0.25;
 
 /// The Inspect section, appended to the sidebar window.
 void draw_inspect_section(InspectState& state, const ViewModel& model);
-/// The readout box beside the cursor (when the cursor is on the image), inside the image area
-/// (`area`: its size from the window's top-left).
-void draw_hover_readout(const InspectState& state, const ImageLayout& layout, glm::vec2 area);
+/// The readout box beside the cursor (when the cursor rests on the image), clear of the cursor and
+/// inside the image area (`area`: its size from the window's top-left; ui/hover_readout.h).
+void draw_hover_readout(InspectState& state, const ImageLayout& layout, glm::vec2 area);
 /// The button at the image area's top-right corner that hides or shows the sidebar.
 void draw_sidebar_toggle(InspectState& state, float area_right);
 /// The heat map's scale as a strip of colour with its labels.

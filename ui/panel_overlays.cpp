@@ -8,6 +8,7 @@
 #include "ui/keys.h"
 #include "ui/render_region_tool.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -29,10 +30,24 @@ std::string magnification(float scale) {
     return text;
 }
 
-void status_line(const ViewModel& model, float scale) {
-    ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f));
+constexpr float overlay_margin = 8.0f;  // between the floating boxes and the image area's edges
+
+/// The box of the current ImGui window: min x, min y, max x, max y.
+glm::vec4 window_box() {
+    const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    return {at.x, at.y, at.x + size.x, at.y + size.y};
+}
+
+/// The status line at the image area's top-left, its lines wrapped to the area's width so that
+/// it never runs under the sidebar.
+void status_line(const ViewModel& model, PanelState& state, float scale, glm::vec2 area) {
+    const float width = std::max(area.x - 2.0f * overlay_margin, 120.0f);
+    ImGui::SetNextWindowPos(ImVec2(overlay_margin, overlay_margin));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(width, area.y - 2.0f * overlay_margin));
     ImGui::SetNextWindowBgAlpha(0.55f);
     ImGui::Begin("##status", nullptr, floating | ImGuiWindowFlags_NoInputs);
+    const float text_width = width - 2.0f * ImGui::GetStyle().WindowPadding.x;
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + text_width);
     const PreviewDriver& driver = model.driver();
     const SessionProgress& p = driver.progress();
     const std::string name = std::filesystem::path(model.scene_path()).filename().string();
@@ -48,28 +63,34 @@ void status_line(const ViewModel& model, float scale) {
             ImGui::Text("%s  %d x %d%s  %s %3.0f%%  %.2f s", name.c_str(), driver.job().width, driver.job().height,
                         magnification(scale).c_str(), what.c_str(), done, p.elapsed_seconds);
         }
-        photon_progress_bar(p, 320.0f);
+        photon_progress_bar(p, std::min(320.0f, text_width));
         if (const std::string region = region_status(model.render_region()); !region.empty())
             ImGui::TextUnformatted(region.c_str());
     } else {
         ImGui::TextUnformatted(model.loading() ? "loading..." : "no scene");
     }
     if (model.loading() && driver.has_job()) ImGui::TextDisabled("loading %s...", name.c_str());
+    ImGui::PopTextWrapPos();
+    state.status_box = window_box();
     ImGui::End();
 }
 
-void error_banner(ViewModel& model, glm::vec2 area) {
+/// A scene error under the status line (both stay readable), as wide as the image area allows.
+void error_banner(ViewModel& model, PanelState& state, glm::vec2 area) {
+    state.error_box = glm::vec4(0.0f);
     if (model.error().empty()) return;
-    ImGui::SetNextWindowPos(ImVec2(8.0f, 40.0f));
-    ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 0.0f), ImVec2(area.x - 16.0f, area.y * 0.5f));
+    const float top = std::max(state.status_box.w, 0.0f) + 6.0f, width = std::max(area.x - 2.0f * overlay_margin, 200.0f);
+    ImGui::SetNextWindowPos(ImVec2(overlay_margin, top));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 0.0f), ImVec2(width, std::max(area.y - top - overlay_margin, 60.0f)));
     ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.45f, 0.05f, 0.05f, 0.92f));
     ImGui::Begin("##error", nullptr, floating);
-    ImGui::PushTextWrapPos(area.x - 40.0f);
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + width - 2.0f * ImGui::GetStyle().WindowPadding.x);
     ImGui::TextUnformatted(model.error().c_str());
-    ImGui::PopTextWrapPos();
     ImGui::TextDisabled(model.has_scene() ? "the previous scene stays on screen; fix the file and it reloads"
                                           : "no scene loaded; fix the file and it reloads");
+    ImGui::PopTextWrapPos();
     if (ImGui::SmallButton("dismiss")) model.clear_error();
+    state.error_box = window_box();
     ImGui::End();
     ImGui::PopStyleColor();
 }
@@ -84,7 +105,7 @@ void help_window(PanelState& state, glm::vec2 area) {
         {"right or middle drag", "pan"},
         {"wheel, + / -", "zoom"},
         {"double-click", "set the target on the surface under the cursor"},
-        {"arrow keys", "orbit by 5 degrees"},
+        {"arrow keys", "move the camera 5 degrees right, left, up, down (as --orbit 5,0 ... 0,-5)"},
         {"R, Home", "back to the script's camera"},
         {"O / C", "projection-map outline / occupied cells"},
         {"P / D", "photons-only view / photon dots"},
@@ -101,6 +122,7 @@ void help_window(PanelState& state, glm::vec2 area) {
         {"Ctrl+left drag", "move the zoomed image"},
         {"F / 1", "fit the image / pixels 1:1"},
         {"B", "snapshot the image as the A/B reference"},
+        {"I", "hover readout on / off (pixel, surface, caustic; shows when the mouse rests on the image)"},
         {"A", "compare: off, split, difference, relative error (drag the split line)"},
         {"drag a knob / Shift+drag", "change it by 1 % / 10 % a pixel (Ctrl+click: type a value)"},
         {"drop a .lua file", "open it"},
@@ -218,8 +240,8 @@ void empty_hint(const ViewModel& model, glm::vec2 area) {
 
 void draw_image_overlays(ViewModel& model, PanelState& state, const ImageLayout& layout, glm::vec2 window) {
     const glm::vec2 area(state.image_area_width > 0.0f ? state.image_area_width : window.x - sidebar_width, window.y);
-    status_line(model, layout.scale);
-    error_banner(model, area);
+    status_line(model, state, layout.scale, area);
+    error_banner(model, state, area);
     empty_hint(model, area);
     message(model, state, area);
     help_window(state, area);

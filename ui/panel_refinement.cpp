@@ -2,6 +2,7 @@
 // photons, samples per pixel, estimated error, radius), what the render is doing, the photon
 // stage's progress bar, and the Pause/Resume button with the stopping rules.
 #include "ui/panels.h"
+#include "ui/tooltip.h"
 
 #include <imgui.h>
 
@@ -24,14 +25,6 @@ std::string short_count(double n) {
     std::snprintf(text, sizeof text, "%.0f", n);
     return text;
 }
-
-namespace {
-
-void hint(const char* text) {
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
-}
-
-}  // namespace
 
 std::string refinement_summary(const SessionProgress& a) {
     char text[256];

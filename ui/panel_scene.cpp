@@ -1,5 +1,6 @@
 // The Scene section: open by path, from the scene folder or the recent list; choose the render.
 #include "ui/panels.h"
+#include "ui/tooltip.h"
 
 #include <imgui.h>
 
@@ -46,9 +47,9 @@ void scene_options(ViewModel& model) {
     ImGui::BeginDisabled(scripted);
     if (ImGui::Checkbox("--a4 course conventions", &a4)) model.set_a4(a4);
     ImGui::EndDisabled();
-    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-        ImGui::SetTooltip("CS488 A4 conventions for this scene only: transforms act in the order written, gr.cube is "
-                          "the unit cube [0,1]^3. Rebuilds the scene");
+    hint("CS488 A4 conventions for this scene only: transforms act in the order written, gr.cube is the unit cube "
+         "[0,1]^3. Rebuilds the scene",
+         true);
     if (!origin.empty()) {
         ImGui::PushTextWrapPos(0.0f);
         ImGui::TextDisabled("  --a4 from %s", origin.c_str());

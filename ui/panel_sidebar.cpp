@@ -36,6 +36,16 @@ void hold_scroll(float& last_end) {
     last_end = ImGui::GetCursorPosY();
 }
 
+/// The sections that show the scene's values: what differs, the knobs, the view, the statistics.
+void draw_scene_value_sections(ViewModel& model, PanelState& state) {
+    const std::size_t differing = model.differences().size();
+    const std::string differs = "Differs from the scene (" + std::to_string(differing) + ")###differs";
+    if (ImGui::CollapsingHeader(differs.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) draw_differences_section(model);
+    if (ImGui::CollapsingHeader("Light transport and caustics", ImGuiTreeNodeFlags_DefaultOpen)) draw_caustics_section(model, state);
+    if (ImGui::CollapsingHeader("View and save")) draw_view_section(model, state);
+    if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) draw_stats_section(model, state);
+}
+
 }  // namespace
 
 void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window) {
@@ -46,13 +56,13 @@ void draw_sidebar(ViewModel& model, PanelState& state, glm::vec2 window) {
     ImGui::Begin("caustica preview", nullptr, flags);
     state.knob_rects.clear();  // only the knobs drawn in this frame
     ImGui::PushItemWidth(-150.0f);  // room for the labels on the right
+    if (state.camera_text_scene != model.scene_path()) state.camera_text.clear();  // copied in another scene
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) draw_scene_section(model, state);
-    const std::size_t differing = model.differences().size();
-    const std::string differs = "Differs from the scene (" + std::to_string(differing) + ")###differs";
-    if (ImGui::CollapsingHeader(differs.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) draw_differences_section(model);
-    if (ImGui::CollapsingHeader("Light transport and caustics", ImGuiTreeNodeFlags_DefaultOpen)) draw_caustics_section(model, state);
-    if (ImGui::CollapsingHeader("View and save")) draw_view_section(model, state);
-    if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) draw_stats_section(model, state);
+    // Until a scene has loaded there are no values to show: the panels' defaults would flash in
+    // their place in the first frames.
+    state.scene_values_shown = model.has_scene();
+    if (state.scene_values_shown) draw_scene_value_sections(model, state);
+    else ImGui::TextDisabled(model.loading() ? "loading the scene..." : "no scene loaded");
     hold_scroll(state.sidebar_content_end);
     ImGui::PopItemWidth();
     // Changes made while a widget is held (a slider dragged) are one undo step; set here too, so

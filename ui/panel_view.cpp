@@ -1,5 +1,6 @@
 // The View section: camera, display (exposure, tone curve, sRGB: shader only), resolution and threads, saving.
 #include "ui/panels.h"
+#include "ui/tooltip.h"
 
 #include <imgui.h>
 
@@ -9,10 +10,6 @@
 
 namespace caustica::ui {
 namespace {
-
-void hint(const char* text) {
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
-}
 
 /// Named cameras of this scene: save the one shown, go to one, delete one.
 void bookmarks(ViewModel& model, PanelState& state) {
@@ -93,6 +90,7 @@ void draw_view_section(ViewModel& model, PanelState& state) {
     ImGui::SameLine();
     if (ImGui::Button("Copy camera")) {
         state.camera_text = model.camera_text();
+        state.camera_text_scene = model.scene_path();
         ImGui::SetClipboardText(state.camera_text.c_str());
     }
     hint("copies the camera shown as gr.render's eye, view, up and angle, to paste into the script "

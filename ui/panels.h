@@ -58,10 +58,18 @@ struct PanelState {
     int question_frame = -1;              ///< ImGui frame in which the last question opened
     float image_area_width = 0.0f;        ///< width of the image area; 0 = the window's minus the sidebar
     float sidebar_content_end = 0.0f;     ///< where the sidebar's content ended in the last frame (ImGui's content y)
+    // Where the last frame put the status line and the error banner (window pixels: min x, min y,
+    // max x, max y; zero when not shown): the banner goes under the status line.
+    glm::vec4 status_box{0.0f}, error_box{0.0f};
 
     // Camera
     std::array<char, 64> bookmark_name{};
     std::string camera_text;              ///< the last copied camera, shown under the button
+    std::string camera_text_scene;        ///< the scene it was copied in (another scene forgets it)
+
+    /// Whether the last sidebar showed the scene's values (knobs, view, statistics): not before a
+    /// scene has loaded, so that no frame shows the panels' defaults in their place.
+    bool scene_values_shown = false;
 };
 
 /// The panels' look: ImGui's dark colours, a little tighter so that every section fits 720 pixels.

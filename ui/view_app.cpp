@@ -1,5 +1,6 @@
 #include "ui/view_app.h"
 
+#include "ui/camera_input.h"
 #include "ui/key_events.h"
 #include "ui/keys.h"
 
@@ -21,9 +22,6 @@
 
 namespace caustica::ui {
 namespace {
-
-constexpr double degrees_per_pixel = 0.3;
-constexpr double arrow_degrees = 5.0;
 
 /// From the platform's key queue, not ImGui::IsKeyPressed: that misses a tap shorter than a frame.
 /// A plain key (Shift allowed: Shift+E), with neither Ctrl, Alt nor Super held when it went down.
@@ -92,7 +90,10 @@ void ViewApp::handle_mouse(glm::vec2 window) {
     const glm::vec2 delta(io.MouseDelta.x, io.MouseDelta.y);
     const bool moved = (delta.x != 0.0f || delta.y != 0.0f) && io.MousePos.x > -1e30f && io.MousePosPrev.x > -1e30f;
     if (moved && region_drag_.active) region_drag_.to = layout_.to_image(mouse);
-    if (moved && dragging_[0]) model_.orbit(-delta.x * degrees_per_pixel, delta.y * degrees_per_pixel);
+    if (moved && dragging_[0]) {
+        const glm::dvec2 degrees = drag_orbit(delta);
+        model_.orbit(degrees.x, degrees.y);
+    }
     if (moved && (dragging_[1] || dragging_[2])) model_.pan(glm::dvec2(delta) / static_cast<double>(layout_.scale));
     if (moved && panning_image_) inspect_.zoom.pan(layout_, glm::vec2(0.0f), area_, delta);
     if (moved && dragging_split_ && layout_.image_width > 0)
@@ -107,11 +108,25 @@ void ViewApp::handle_mouse(glm::vec2 window) {
     const bool dragging =
         dragging_[0] || dragging_[1] || dragging_[2] || panning_image_ || dragging_split_ || region_drag_.active;
     // The readout follows a mouse that has moved: a pointer resting where the window opened
-    // (Xvfb puts it at the screen's centre) shows nothing.
+    // (Xvfb puts it at the screen's centre) shows nothing. It waits until the mouse and the camera
+    // rest (ui/hover_readout.h), so it never covers the view being orbited to.
     if (moved) mouse_moved_ = true;
+    const bool buttons_held = io.MouseDown[0] || io.MouseDown[1] || io.MouseDown[2];
+    hover_rest_.update(ImGui::GetTime(), moved || dragging || buttons_held);
     inspect_.hover.reset();
     if (forced_hover_) inspect_.hover = forced_hover_;
-    else if (mouse_moved_ && over_area && !dragging && layout_.contains(mouse)) inspect_.hover = mouse;
+    else if (mouse_moved_ && over_area && layout_.contains(mouse) && hover_rest_.resting(ImGui::GetTime()))
+        inspect_.hover = mouse;
+}
+
+void ViewApp::note_camera_change() {
+    // An orbit by the keys or a change of the view that the mouse did not make counts as activity
+    // for the hover readout too.
+    const OrbitCamera& orbit = model_.orbit_camera();
+    const bool changed = orbit.eye() != shown_eye_ || orbit.target() != shown_target_;
+    shown_eye_ = orbit.eye();
+    shown_target_ = orbit.target();
+    if (changed) hover_rest_.update(ImGui::GetTime(), true);
 }
 
 void ViewApp::handle_keys() {
@@ -141,10 +156,8 @@ void ViewApp::handle_keys() {
     const float stops = float(key_pressed_with(keys::e, 0)) - float(key_pressed_with(keys::e, key_mods::shift));
     if (stops != 0.0f) model_.display().exposure = std::clamp(model_.display().exposure + stops, -6.0f, 6.0f);
     if (pressed(keys::g)) model_.display().srgb = !model_.display().srgb;
-    if (pressed(keys::left, true)) model_.orbit(arrow_degrees, 0.0);
-    if (pressed(keys::right, true)) model_.orbit(-arrow_degrees, 0.0);
-    if (pressed(keys::up, true)) model_.orbit(0.0, -arrow_degrees);
-    if (pressed(keys::down, true)) model_.orbit(0.0, arrow_degrees);
+    for (const int arrow : {keys::left, keys::right, keys::up, keys::down})  // as --orbit YAW,PITCH
+        if (pressed(arrow, true)) model_.orbit(arrow_orbit(arrow)->x, arrow_orbit(arrow)->y);
     if (pressed(keys::equal, true) || pressed(keys::keypad_add, true)) model_.zoom(1.0);
     if (pressed(keys::minus, true) || pressed(keys::keypad_subtract, true)) model_.zoom(-1.0);
     // Inspection: sidebar, image zoom, A/B.
@@ -303,6 +316,8 @@ void ViewApp::frame(glm::vec2 window) {
     handle_mouse(window);
     handle_keys();
     handle_region_keys();
+    note_camera_change();
+    if (!forced_hover_ && !hover_rest_.resting(ImGui::GetTime())) inspect_.hover.reset();  // a key orbited
     area_ = glm::vec2(std::max(window.x - (inspect_.sidebar_hidden ? 0.0f : sidebar_width), 1.0f), window.y);
     model_.update();
     image_->upload(model_.driver());

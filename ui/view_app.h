@@ -3,6 +3,7 @@
 // to the texture, and the panels are built; then the image and overlay are drawn.
 #pragma once
 
+#include "ui/hover_readout.h"
 #include "ui/image_layout.h"
 #include "ui/image_view.h"
 #include "ui/overlay_renderer.h"
@@ -58,6 +59,7 @@ public:
 private:
     void handle_mouse(glm::vec2 window);
     void handle_keys();
+    void note_camera_change();
     void update_overlay_triangles();
     void update_inspection();
     void load_reference();
@@ -80,6 +82,8 @@ private:
     std::uint64_t uploaded_reference_ = 0;
     float stats_exposure_ = 0.0f;
     RegionDrag region_drag_;  // the render region being drawn (Shift+drag, or Ctrl+B then drag)
+    HoverRest hover_rest_;
+    glm::dvec3 shown_eye_{0.0}, shown_target_{0.0};
 };
 
 }  // namespace caustica::ui

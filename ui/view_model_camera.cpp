@@ -2,6 +2,7 @@
 // to a bookmark, and a camera as gr.render arguments.
 #include "ui/view_model.h"
 
+#include "core/render/orbit_target.h"
 #include "core/scene/camera.h"
 #include "ui/view_model_internal.h"
 
@@ -59,7 +60,8 @@ void ViewModel::reset_camera() {
 }
 
 void ViewModel::resolve_target() {
-    // The initial orbit target: the first surface along the script's view direction.
+    // The initial orbit target: on the script's view axis, at the depth of the centre of what the
+    // camera sees (docs/PREVIEW.md, "Keys and mouse"), so that an orbit keeps the scene in view.
     if (target_known_ || !scene_) return;
     if (orbit_.moved()) {
         target_known_ = true;
@@ -69,10 +71,7 @@ void ViewModel::resolve_target() {
     const SessionProgress& p = driver_.progress();
     if (p.tiles_total == 0 && !p.finished) return;  // the scene is not built yet
     const RenderJob& job = driver_.job();
-    const Camera camera(orbit_.desc(), job.width, job.height);
-    glm::vec3 point;
-    if (driver_.session().pick(camera.generate(0.5f * job.width, 0.5f * job.height), point))
-        orbit_.set_target_distance(glm::length(glm::dvec3(point) - orbit_.eye()));
+    orbit_.set_target_distance(visible_centre_distance(driver_.session(), orbit_.desc(), job.width, job.height));
     target_known_ = true;
     if (pending_orbit_) {  // --orbit: around the same target an interactive drag would use
         orbit(pending_orbit_->x, pending_orbit_->y);

@@ -293,12 +293,17 @@ TEST(AnimationCli, OrbitAndPickedFramesThroughTheBinary) {
     EXPECT_EQ(text_of(plain, "caustica:frame"), "(missing)");
     EXPECT_EQ(text_of(f2, "caustica:frame"), "2/3");
     EXPECT_EQ(text_of(f1, "caustica:camera"), text_of(plain, "caustica:camera"));
-    // A third of a turn around the sphere's front (0, 0, 1), 4 away: eye (4 sin 120, 0, 1 + 4 cos 120).
+    // A third of a turn around the orbit target: on the view axis at the depth d of what the camera
+    // sees (docs/ANIMATION.md), here within the sphere (its front 4 away, its back 6), so the eye is
+    // (0, 0, 5 - d) + d (sin 120, 0, cos 120) and looks back at it.
     glm::dvec3 eye, view;
     ASSERT_EQ(std::sscanf(text_of(f2, "caustica:camera").c_str(), "eye %lf %lf %lf view %lf %lf %lf", &eye.x, &eye.y,
                           &eye.z, &view.x, &view.y, &view.z),
               6);
-    expect_near(eye, {2.0 * std::sqrt(3.0), 0.0, -1.0}, 1e-5);
+    const double d = eye.x / (0.5 * std::sqrt(3.0));
+    EXPECT_GT(d, 4.0);
+    EXPECT_LT(d, 6.0);
+    expect_near(eye, {0.5 * std::sqrt(3.0) * d, 0.0, 5.0 - 1.5 * d}, 1e-5);
     expect_near(view, {-0.5 * std::sqrt(3.0), 0.0, 0.5}, 1e-6);
 
     // --frames outside the orbit: refused before anything is written, naming the range.

@@ -1,6 +1,8 @@
 // The GL-free inspection tools (ui/inspection.h): histogram, comparison metrics, heat map ramp,
 // pixel readout and the zoom/pan of the image view, with values worked out by hand.
+#include "ui/hover_readout.h"
 #include "ui/inspection.h"
+#include "ui/tooltip.h"
 
 #include "core/render/render_session.h"
 #include "tests/test_support.h"
@@ -255,6 +257,63 @@ TEST(Inspection, SessionInspectNamesTheNodeAndMaterial) {
     EXPECT_EQ(c->object, b.scene->nodes[csg].name);
     EXPECT_EQ(c->material, red);
     EXPECT_FALSE(look_at({0.0f, 6.0f, 0.0f}));  // the sky
+}
+
+TEST(Inspection, HistogramAxisLabelsAreEverySecondDecade) {
+    // The plot spans log10 luminance -4 .. 2: labels at its left edge, a third, two thirds, the right edge.
+    const std::array<std::string, 4> labels = histogram_axis_labels();
+    EXPECT_EQ(labels[0], "1e-4");
+    EXPECT_EQ(labels[1], "0.01");
+    EXPECT_EQ(labels[2], "1");
+    EXPECT_EQ(labels[3], "100");
+}
+
+TEST(Inspection, APngReferenceIsSaidToBeClampedEightBit) {
+    EXPECT_NE(reference_range_note("render.png").find("8-bit PNG"), std::string::npos);
+    EXPECT_NE(reference_range_note("/some/folder/RENDER.PNG").find("clamped to 0..1"), std::string::npos);
+    EXPECT_EQ(reference_range_note("render.exr"), "");
+    EXPECT_EQ(reference_range_note("render.pfm"), "");
+    EXPECT_EQ(reference_range_note("snapshot"), "");  // the preview's own image: HDR too
+}
+
+TEST(HoverReadout, ShowsOnlyOnceTheMouseAndTheCameraRest) {
+    HoverRest rest;
+    rest.update(10.0, false);  // the first frame counts as activity: nothing before a rest
+    EXPECT_FALSE(rest.resting(10.0));
+    EXPECT_FALSE(rest.resting(10.0 + 0.9 * readout_rest_seconds));
+    EXPECT_TRUE(rest.resting(10.0 + readout_rest_seconds));
+    rest.update(11.0, true);  // a drag, a move or an orbit: hidden again
+    rest.update(11.2, false);
+    EXPECT_FALSE(rest.resting(11.2));
+    EXPECT_TRUE(rest.resting(11.0 + readout_rest_seconds));
+}
+
+TEST(HoverReadout, TheBoxKeepsClearOfTheCursorAndInsideTheArea) {
+    const glm::vec2 area(910.0f, 720.0f), box(300.0f, 180.0f);
+    for (const glm::vec2 cursor : {glm::vec2(5.0f, 5.0f), glm::vec2(900.0f, 5.0f), glm::vec2(5.0f, 715.0f),
+                                   glm::vec2(900.0f, 715.0f), glm::vec2(455.0f, 360.0f), glm::vec2(620.0f, 600.0f)}) {
+        const glm::vec2 at = readout_position(cursor, box, area);
+        EXPECT_GE(at.x, readout_margin) << cursor.x << " " << cursor.y;
+        EXPECT_GE(at.y, readout_margin) << cursor.x << " " << cursor.y;
+        EXPECT_LE(at.x + box.x, area.x - readout_margin) << cursor.x << " " << cursor.y;
+        EXPECT_LE(at.y + box.y, area.y - readout_margin) << cursor.x << " " << cursor.y;
+        // The cursor and the gap around it stay uncovered.
+        const bool clear_x = cursor.x + readout_cursor_gap <= at.x || at.x + box.x <= cursor.x - readout_cursor_gap;
+        const bool clear_y = cursor.y + readout_cursor_gap <= at.y || at.y + box.y <= cursor.y - readout_cursor_gap;
+        EXPECT_TRUE(clear_x && clear_y) << cursor.x << " " << cursor.y << " -> " << at.x << " " << at.y;
+    }
+    // Below and right of the cursor where there is room.
+    EXPECT_EQ(readout_position({100.0f, 100.0f}, box, area), glm::vec2(124.0f, 124.0f));
+    // A box larger than the area starts at its margin.
+    EXPECT_EQ(readout_position({100.0f, 100.0f}, {2000.0f, 50.0f}, area).x, readout_margin);
+}
+
+TEST(Tooltip, WrapsWithinTheWindow) {
+    // 13-pixel font: 32 font sizes (416 pixels) in a wide window, the window less its margins in a narrow one.
+    EXPECT_EQ(tooltip_wrap_width(1280.0f, 13.0f), 416.0f);
+    EXPECT_EQ(tooltip_wrap_width(400.0f, 13.0f), 400.0f - 2.0f * tooltip_margin);
+    EXPECT_LE(tooltip_wrap_width(400.0f, 13.0f) + 2.0f * tooltip_margin, 400.0f);
+    EXPECT_EQ(tooltip_wrap_width(50.0f, 13.0f), 104.0f);  // never narrower than 8 font sizes
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 // the distance and the target, pole limits, pan that follows the cursor, zoom, retargeting.
 #include "core/scene/camera.h"
 #include "core/scene/orbit_camera.h"
+#include "ui/camera_input.h"
 #include "ui/image_layout.h"
+#include "ui/keys.h"
 
 #include <gtest/gtest.h>
 
@@ -24,6 +26,31 @@ void expect_near(const glm::dvec3& a, const glm::dvec3& b, double tolerance = 1e
     EXPECT_NEAR(a.x, b.x, tolerance);
     EXPECT_NEAR(a.y, b.y, tolerance);
     EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+TEST(OrbitCamera, ArrowKeysMoveTheCameraAsOrbitDoes) {
+    // `caustica view --orbit YAW,PITCH` turns the camera by OrbitCamera::orbit(YAW, PITCH): +yaw to
+    // the camera's right, +pitch up. Each arrow key moves it 5 degrees that way.
+    const CameraDesc script = course_camera();
+    const auto moved = [&](glm::dvec2 degrees) {
+        OrbitCamera orbit(script, 7.5);
+        orbit.orbit(degrees.x, degrees.y);
+        return orbit.eye();
+    };
+    ASSERT_TRUE(arrow_orbit(keys::up) && arrow_orbit(keys::down) && arrow_orbit(keys::left) && arrow_orbit(keys::right));
+    expect_near(moved(*arrow_orbit(keys::up)), moved({0.0, 5.0}));     // --orbit 0,5
+    expect_near(moved(*arrow_orbit(keys::down)), moved({0.0, -5.0}));  // --orbit 0,-5
+    expect_near(moved(*arrow_orbit(keys::right)), moved({5.0, 0.0}));  // --orbit 5,0
+    expect_near(moved(*arrow_orbit(keys::left)), moved({-5.0, 0.0}));  // --orbit -5,0
+    // In words: Up raises the eye, Right moves it to the camera's right (+x here).
+    EXPECT_GT(moved(*arrow_orbit(keys::up)).y, script.eye.y + 0.5);
+    EXPECT_LT(moved(*arrow_orbit(keys::down)).y, script.eye.y - 0.5);
+    EXPECT_GT(moved(*arrow_orbit(keys::right)).x, 0.5);
+    EXPECT_LT(moved(*arrow_orbit(keys::left)).x, -0.5);
+    EXPECT_FALSE(arrow_orbit(keys::a));
+    // A drag turns the scene with the cursor: to the right, the camera goes to its left; up, it goes down.
+    EXPECT_EQ(drag_orbit({10.0f, 0.0f}), glm::dvec2(-3.0, 0.0));
+    EXPECT_EQ(drag_orbit({0.0f, -10.0f}), glm::dvec2(0.0, -3.0));
 }
 
 TEST(OrbitCamera, UnmovedCameraIsTheScriptsBitForBit) {

@@ -1,11 +1,14 @@
 // The preview's model without GL: loading, live knobs that redo only what they invalidate
 // (checked with the session's stage counters), scene errors that keep the previous scene,
 // reloading on file changes, reverting settings that fail to render, saving, arguments.
+#include "ui/camera_input.h"
 #include "ui/view_arguments.h"
 #include "ui/view_model.h"
 #include "ui_test_support.h"
 
 #include "core/io/png_io.h"
+#include "core/render/orbit_target.h"
+#include "core/scene/camera.h"
 #include "core/scene/source_location.h"
 
 #include <gtest/gtest.h>
@@ -20,6 +23,18 @@ namespace caustica::ui {
 namespace {
 
 using namespace caustica::ui::testing;
+
+void expect_near(const glm::dvec3& a, const glm::dvec3& b, double tolerance = 1e-9) {
+    EXPECT_NEAR(a.x, b.x, tolerance);
+    EXPECT_NEAR(a.y, b.y, tolerance);
+    EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+/// Checks that `point` lies on the view axis of `camera`.
+void expect_on_axis(const glm::dvec3& point, const CameraDesc& camera) {
+    const glm::dvec3 view = glm::normalize(camera.view);
+    expect_near(point, camera.eye + view * glm::dot(point - camera.eye, view));
+}
 
 ModelConfig test_config() {
     ModelConfig config;
@@ -229,13 +244,19 @@ TEST(ViewModel, SettingsThatFailToRenderAreTakenBack) {
     EXPECT_EQ(m.model.driver().job().options.caustic_num_photons, 0);
 }
 
-TEST(ViewModel, InitialTargetIsTheFirstSurfaceOnTheViewAxis) {
+TEST(ViewModel, InitialTargetIsOnTheViewAxisAtTheCentreOfWhatIsSeen) {
     LoadedModel m;
     const OrbitCamera& orbit = m.model.orbit_camera();
-    // The centre ray from (0, 1.6, 4.6) along (0, -0.4, -1) meets the floor's top at y = -1.
-    const double t = (1.6 + 1.0) / (0.4 / std::sqrt(1.16));
-    EXPECT_NEAR(orbit.distance(), t, 1e-3);
-    EXPECT_NEAR(orbit.target().y, -1.0, 1e-3);
+    const CameraDesc& script = orbit.script_camera();
+    const RenderJob& job = m.model.driver().job();
+    const double expected = visible_centre_distance(m.model.driver().session(), script, job.width, job.height);
+    EXPECT_NEAR(orbit.distance(), expected, 1e-9);
+    expect_on_axis(orbit.target(), script);
+    // The centre ray from (0, 1.6, 4.6) along (0, -0.4, -1) meets the floor 7.0 away; the floor and
+    // the wall seen around it have their centre nearer, above the floor.
+    EXPECT_GT(orbit.distance(), 3.0);
+    EXPECT_LT(orbit.distance(), (1.6 + 1.0) / (0.4 / std::sqrt(1.16)) - 0.5);
+    EXPECT_GT(orbit.target().y, -1.0 + 0.1);
 }
 
 TEST(ViewModel, OrbitWhenLoadedTurnsAroundThatTarget) {
@@ -245,8 +266,46 @@ TEST(ViewModel, OrbitWhenLoadedTurnsAroundThatTarget) {
     model.open(folder.write("scene.lua", caustic_box_text()));
     ASSERT_TRUE(run_until_finished(model));
     EXPECT_TRUE(model.orbit_camera().moved());
-    EXPECT_NEAR(model.orbit_camera().target().y, -1.0, 1e-3);
+    const CameraDesc& script = model.orbit_camera().script_camera();
+    const RenderJob& job = model.driver().job();
+    const double distance = visible_centre_distance(model.driver().session(), script, job.width, job.height);
+    EXPECT_NEAR(model.orbit_camera().distance(), distance, 1e-9);
+    expect_near(model.orbit_camera().target(), script.eye + glm::normalize(script.view) * distance);
     EXPECT_EQ(model.driver().job().camera.eye, model.orbit_camera().desc().eye);
+}
+
+TEST(ViewModel, ADragOfSeventyFivePixelsKeepsTheShippedBoxInView) {
+    // scenes/default.lua: a box whose walls span [-2.1, 2.1]^3 around the origin, seen through its
+    // open front; the centre ray meets the back wall 9.6 away. Turned around that wall, a 75-pixel
+    // drag swings the box's centre 70 pixels (of 512) off its place; turned around the centre of
+    // what is seen, the box stays where it was.
+    ModelConfig config = test_config();
+    for (const char* token : {"--minres", "--caustic-num-photons", "0"}) config.option_tokens.push_back(token);
+    ViewModel model(config);
+    model.open(std::string(CAUSTICA_SOURCE_DIR) + "/scenes/default.lua");
+    ASSERT_TRUE(run_until_finished(model)) << model.error();
+    const RenderJob job = model.current_job();
+    ASSERT_EQ(job.width, 100);
+    const glm::vec3 centre(0.0f);
+    const auto centre_pixel = [&](const CameraDesc& camera) {
+        glm::vec2 pixel(-1e9f);
+        EXPECT_TRUE(Camera(camera, job.width, job.height).project(centre, pixel));
+        return pixel;
+    };
+    const glm::vec2 before = centre_pixel(model.orbit_camera().desc());
+    for (const glm::vec2 drag : {glm::vec2(75.0f, 0.0f), glm::vec2(-75.0f, 0.0f), glm::vec2(0.0f, 75.0f),
+                                 glm::vec2(0.0f, -75.0f)}) {
+        OrbitCamera orbit = model.orbit_camera();
+        const glm::dvec2 degrees = drag_orbit(drag);
+        orbit.orbit(degrees.x, degrees.y);
+        const glm::vec2 after = centre_pixel(orbit.desc());
+        EXPECT_LT(glm::length(after - before), 0.05f * job.width) << drag.x << " " << drag.y;
+        // And nothing hides it: the first surface towards the centre lies beyond it.
+        const glm::vec3 eye(orbit.eye());
+        glm::vec3 hit;
+        ASSERT_TRUE(model.driver().session().pick(Ray{eye, glm::normalize(centre - eye), 0.0f, ray_infinity}, hit));
+        EXPECT_GT(glm::length(hit - eye), glm::length(centre - eye)) << drag.x << " " << drag.y;
+    }
 }
 
 TEST(ViewModel, DoubleClickTargetIsOnTheSurface) {
