@@ -2,8 +2,6 @@
 // checking every output before any rendering, and finding the orbit's target.
 #include "app/render_plan.h"
 
-#include "core/integrators/registry.h"
-
 #include "app/render_command.h"
 #include "app/render_interrupt.h"
 #include "core/io/atomic_file.h"
@@ -171,8 +169,7 @@ int plan_render(const std::vector<std::string>& args, RenderSession& session, bo
     }
     for (const AnimationFrame& frame : out.plan.frames) {
         const Options& o = frame.job.options;
-        if (integrator_entry(o.integrator).accumulates && o.passes == 0 && o.time_limit <= 0.0 && o.target_error <= 0.0)
-            throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
+        check_render_stop_rules(o);
         if (const std::string why = o.layers ? layers_refusal(o, frame.path) : std::string(); !why.empty())
             throw parsed.output.empty() ? InputError(frame.job.where, "gr.render: " + why) : InputError(why);
     }

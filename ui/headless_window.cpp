@@ -93,9 +93,11 @@ void HeadlessWindow::frame(ViewApp& app, const HeadlessInput& input) {
     io.MouseWheel = input.wheel;
     io.KeyCtrl = input.ctrl;
     io.KeyShift = input.shift;
+    io.KeyAlt = input.alt;
     // A key listed in this frame but not the last is a new press (for ViewApp's key queue too);
     // one listed in both is held: no second press, no auto-repeat.
-    const int mods = (input.ctrl ? key_mods::ctrl : 0) | (input.shift ? key_mods::shift : 0);
+    const int mods = (input.ctrl ? key_mods::ctrl : 0) | (input.shift ? key_mods::shift : 0) |
+                     (input.alt ? key_mods::alt : 0);
     for (int key : input.keys)
         if (std::find(released_.begin(), released_.end(), key) == released_.end()) key_events().press(key, mods);
     for (int key : input.taps) {

@@ -25,7 +25,7 @@ struct HeadlessInput {
     std::vector<int> taps = {};       ///< keys pressed and released again before this frame (a tap
                                       ///< shorter than a frame): reported to ui/key_events.h as the
                                       ///< window's key callback does, which shows them down for one frame
-    bool ctrl = false, shift = false;
+    bool ctrl = false, shift = false, alt = false;
 };
 
 /// An off-screen window: OSMesa context, ImGui context and its OpenGL3 renderer.

@@ -24,9 +24,9 @@ void overlay_settings(ViewModel& model, PanelState& state) {
         state.open_overlay_header = false;
     }
     if (!ImGui::TreeNodeEx("Projection-map overlay", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    ImGui::Checkbox("outline (O)", &overlay.enabled);
+    ImGui::Checkbox("outline (Alt+O)", &overlay.enabled);
     ImGui::SameLine();
-    ImGui::Checkbox("occupied cells (C)", &overlay.cells);
+    ImGui::Checkbox("occupied cells (Alt+C)", &overlay.cells);
     const std::vector<LightProjectionMap>& maps = model.driver().projection_maps();
     if (maps.size() > 1) {
         overlay.light = std::clamp(overlay.light, 0, static_cast<int>(maps.size()) - 1);

@@ -99,13 +99,13 @@ void draw_inspect_section(InspectState& state, const ViewModel& model) {
         ImGui::SameLine();
         ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "  NaN/inf %s", percent(h.invalid).c_str());
     }
-    ImGui::Checkbox("readout at the cursor (I)", &state.readout);
+    ImGui::Checkbox("readout at the cursor (Alt+I)", &state.readout);
     ImGui::SameLine();
     ImGui::TextDisabled("zoom %g%%", static_cast<double>(std::round(state.zoom.scale * 1000.0f) / 10.0f));
 
     ImGui::Separator();
     ImGui::TextUnformatted("A/B: current (A) against a reference (B)");
-    if (ImGui::Button("Snapshot (B)")) state.snapshot_requested = true;
+    if (ImGui::Button("Snapshot (Alt+B)")) state.snapshot_requested = true;
     ImGui::SameLine();
     if (ImGui::Button("Clear")) state.clear_requested = true;
     ImGui::InputText("##reference", state.reference_path.data(), state.reference_path.size());
@@ -113,7 +113,7 @@ void draw_inspect_section(InspectState& state, const ViewModel& model) {
     if (ImGui::Button("Load reference")) state.load_requested = true;
     int mode = static_cast<int>(state.mode);
     const char* modes[] = {"off", "split", "difference", "relative error"};
-    if (ImGui::Combo("compare (A)", &mode, modes, 4)) state.mode = static_cast<CompareMode>(mode);
+    if (ImGui::Combo("compare (Alt+A)", &mode, modes, 4)) state.mode = static_cast<CompareMode>(mode);
     const Image& image = model.driver().image();
     if (state.reference.width <= 0) {
         ImGui::TextDisabled("no reference: Snapshot or Load");

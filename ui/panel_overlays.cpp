@@ -7,6 +7,7 @@
 #include "ui/key_events.h"
 #include "ui/keys.h"
 #include "ui/render_region_tool.h"
+#include "ui/shortcuts.h"
 
 #include <algorithm>
 #include <cmath>
@@ -100,43 +101,14 @@ void help_window(PanelState& state, glm::vec2 area) {
     ImGui::SetNextWindowPos(ImVec2(area.x * 0.5f, area.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
     ImGui::Begin("Keys and mouse (F1 closes)", &state.show_help,
                  ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse);
-    static const char* const rows[][2] = {
-        {"left drag", "orbit around the target"},
-        {"right or middle drag", "pan"},
-        {"wheel, + / -", "zoom"},
-        {"double-click", "set the target on the surface under the cursor"},
-        {"arrow keys", "move the camera 5 degrees right, left, up, down (as --orbit 5,0 ... 0,-5)"},
-        {"R, Home", "back to the script's camera"},
-        {"O / C", "projection-map outline / occupied cells"},
-        {"P / D", "photons-only view / photon dots"},
-        {"Space", "pause / resume the refinement"},
-        {"E / Shift+E", "exposure up / down one stop (0: reset with Ctrl+E)"},
-        {"G", "sRGB display"},
-        {"F5", "reload the scene (it also reloads by itself)"},
-        {"Shift+left drag, Ctrl+B then drag", "render region: every pass goes to the box, the rest keeps its image"},
-        {"Ctrl+Alt+B", "clear the render region (the whole image again)"},
-        {"Ctrl+S", "save the image (while rendering: now or when done)"},
-        {"Ctrl+Z / Ctrl+Shift+Z, Ctrl+Y", "undo / redo a change of the knobs, preset or stopping rules"},
-        {"Tab / the >> button", "hide or show the sidebar (the image takes the whole window)"},
-        {"Ctrl+wheel", "zoom the image about the cursor (whole factors above 1:1, sharp pixels)"},
-        {"Ctrl+left drag", "move the zoomed image"},
-        {"F / 1", "fit the image / pixels 1:1"},
-        {"B", "snapshot the image as the A/B reference"},
-        {"I", "hover readout on / off (pixel, surface, caustic; shows when the mouse rests on the image)"},
-        {"A", "compare: off, split, difference, relative error (drag the split line)"},
-        {"drag a knob / Shift+drag", "change it by 1 % / 10 % a pixel (Ctrl+click: type a value)"},
-        {"drop a .lua file", "open it"},
-        {"F1, H", "this help"},
-        {"Esc", "close this help"},
-        {"Ctrl+Q", "quit"},
-    };
+    static const std::vector<std::pair<std::string, std::string>> rows = shortcut_help_rows();
     if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg)) {
         for (const auto& row : rows) {
             ImGui::TableNextRow();
             ImGui::TableNextColumn();
-            ImGui::TextUnformatted(row[0]);
+            ImGui::TextUnformatted(row.first.c_str());
             ImGui::TableNextColumn();
-            ImGui::TextUnformatted(row[1]);
+            ImGui::TextUnformatted(row.second.c_str());
         }
         ImGui::EndTable();
     }

@@ -86,7 +86,7 @@ void draw_view_section(ViewModel& model, PanelState& state) {
     const glm::dvec3 eye = orbit.eye(), target = orbit.target();
     ImGui::Text("eye    %8.3f %8.3f %8.3f", eye.x, eye.y, eye.z);
     ImGui::Text("target %8.3f %8.3f %8.3f", target.x, target.y, target.z);
-    if (ImGui::Button("script camera (R)")) model.reset_camera();
+    if (ImGui::Button("script camera (Home)")) model.reset_camera();
     ImGui::SameLine();
     if (ImGui::Button("Copy camera")) {
         state.camera_text = model.camera_text();
@@ -108,7 +108,7 @@ void draw_view_section(ViewModel& model, PanelState& state) {
     DisplaySettings& display = model.display();
     ImGui::SliderFloat("exposure (E)", &display.exposure, -6.0f, 6.0f, "%+.1f stops");
     tone_curve_combo(model);
-    ImGui::Checkbox("sRGB display (G)", &display.srgb);
+    ImGui::Checkbox("sRGB display (Alt+G)", &display.srgb);
     ImGui::SameLine();
     ImGui::TextDisabled("display only");
 

@@ -56,7 +56,8 @@ void PreviewDriver::set_region(const RenderRegion& region) {
 bool PreviewDriver::maps_final() const {
     if (pending_ || !started_) return false;
     if (collected_ && progress_.finished) return true;
-    return job_.options.accumulates() && accumulation_.passes_done >= 1;
+    // (A kept accumulation put back shows its passes before its photon stage is built again.)
+    return job_.options.accumulates() && accumulation_.passes_done >= 1 && progress_.prepared;
 }
 
 bool PreviewDriver::first_full_pass_done() const {
@@ -124,6 +125,7 @@ void PreviewDriver::record_pass(const std::string& name, double seconds) {
 void PreviewDriver::advance(bool spin) {
     const double now = now_seconds();
     take_progress();
+    drop_overtaken_accumulation();
     if (started_ && !collected_ && !progress_.running) collect();
     if (!collected_ && (pending_ || paused_ || new_rules_ || new_region_)) {
         // A render younger than max_preview_wait finishes its coarse preview first, so that the
@@ -161,6 +163,7 @@ void PreviewDriver::advance(bool spin) {
 
 void PreviewDriver::forget_scene() {
     stats_forgotten_ = true;  // the session still holds the old render's until the next one starts
+    kept_.reset();  // another scene: its jobs never come back
     stats_ = {};
     pass_history_.clear();
     computed_stages_.clear();
@@ -225,18 +228,23 @@ void PreviewDriver::restart() {
     pending_.reset();
     paused_ = resume_due_ = false;  // a new job is rendered even when the old one was paused
     new_rules_.reset();             // the job carries its rules
+    std::optional<SessionProgress> restored;
     try {
         // The stopped render's last tiles are still the newest: copy them now. From start() on,
         // every tile published belongs to the new render.
         fetch();
         session_.set_coarse_preview(settings_.coarse_preview, settings_.preview_block);
-        session_.set_job(job_);  // the worker has stopped: joining it is immediate
-        session_.start();
+        restored = restore_kept_accumulation();
+        if (!restored) {
+            keep_accumulation();
+            session_.set_job(job_);  // the worker has stopped: joining it is immediate
+            session_.start();
+        }
     } catch (const std::exception& e) {
         error_ = e.what();
         return;
     }
-    accumulation_ = {};
+    accumulation_ = restored ? *restored : SessionProgress{};
     maps_refreshed_ = false;
     stats_forgotten_ = false;
     started_ = true;

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,6 +51,10 @@ struct DriverSettings {
     int preview_block = 8;
     double max_preview_wait_seconds = 0.1; ///< a render younger than this finishes its preview before a newer job replaces it
     double cancel_spin_seconds = 0.004;    ///< how long update() may wait for a cancelled worker before retrying next frame
+    /// An accumulation that has run this many passes, or this many seconds, is kept when a change
+    /// restarts it (docs/PREVIEW.md, "Progressive refinement").
+    int keep_after_passes = 8;
+    double keep_after_seconds = 5.0;
 };
 
 /// The non-blocking front of a RenderSession.
@@ -67,6 +72,13 @@ public:
     /// Continues the paused render: an accumulation from its pass count, any other render (or an
     /// accumulation paused before its first pass) from the start.
     void resume();
+    /// The passes of the accumulation kept aside (0: none). A job that restarts an accumulation of
+    /// keep_after_passes or keep_after_seconds keeps it (at most one, the one with more passes)
+    /// until a fresh accumulation has more passes or another scene opens; requesting its job again
+    /// (the change undone, the camera back) continues it from its passes, and keeps the one it
+    /// replaces in its turn.
+    int kept_passes() const { return kept_ ? kept_progress_.passes_done : 0; }
+
     /// Whether the preview is paused.
     bool paused() const { return paused_; }
     /// Changes the stopping rules of the progressive accumulation without starting it again: the
@@ -171,6 +183,10 @@ private:
     void fetch();     // copy the tiles the newest render published since the last copy
     void refresh_maps();
     void poll_stats();  // stats_ and computed_stages_ from the session
+    std::optional<SessionProgress> restore_kept_accumulation();  // job_ comes back: its kept passes continue
+    bool worth_keeping(const SessionProgress& accumulation) const;  // keep_after_passes or _seconds
+    void keep_accumulation();      // before a new job: the stopped accumulation, when worth keeping
+    void drop_overtaken_accumulation();  // the kept one, once a fresh accumulation has more passes
 
     DriverSettings settings_;
     RenderSession session_;
@@ -182,6 +198,9 @@ private:
     std::optional<StopRules> new_rules_;
     RenderRegion region_;
     bool new_region_ = false;  // region_ has not reached the session yet
+    std::unique_ptr<KeptAccumulation> kept_;  // the one accumulation kept aside (preview_driver_keep.cpp)
+    SessionProgress kept_progress_;           // what it showed
+    bool kept_overtakable_ = false;           // a fresh accumulation runs since it was kept
     double started_at_ = 0.0, stats_polled_at_ = 0.0;
     double pass_clock_ = 0.0;  // when the accumulation's pass count last changed (or it started)
     std::uint64_t clock_generation_ = 0;  // the render pass_clock_ belongs to

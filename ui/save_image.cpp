@@ -6,6 +6,7 @@
 
 #include "core/io/image_io.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -43,6 +44,19 @@ SaveResult refused_outside(const RenderJob& job, const std::string& reason) {
 
 }  // namespace
 
+Options rendered_options(const RenderJob& job, const SessionProgress& progress) {
+    Options options = job.options;
+    // An accumulation saved before its end holds the passes done so far, whatever rules were to
+    // end it (refining until paused has none `render` accepts): those passes are what it rendered.
+    if (progress.accumulating && !progress.finished) {
+        options.passes = std::max(1, progress.passes_done);
+        options.passes_given = true;
+        options.time_limit = 0.0;
+        options.target_error = 0.0;
+    }
+    return options;
+}
+
 std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJob& job, const std::string& scene_path,
                                                                   const SessionProgress& progress) {
     const CameraDesc& c = job.camera;
@@ -54,7 +68,7 @@ std::vector<std::pair<std::string, std::string>> preview_metadata(const RenderJo
         {"Software", "caustica " CAUSTICA_VERSION " (view)"},
         {"Source", scene_path},
         {"caustica:integrator", integrator_entry(job.options.integrator).name},
-        {"caustica:options", describe_non_default(job.options)},
+        {"caustica:options", describe_non_default(rendered_options(job, progress))},
         {"caustica:camera", "eye " + format_vector(c.eye) + " view " + format_vector(c.view) + " up " +
                                 format_vector(c.up) + " fovy " + fovy},
         {"caustica:size", std::to_string(job.width) + "x" + std::to_string(job.height)},

@@ -30,6 +30,11 @@ struct SaveResult {
     std::string message;
 };
 
+/// The options that render what `progress` shows of `job`, as the metadata names them: an
+/// accumulation not ended yet gets `--passes` with the passes done in place of its stopping rules
+/// (`caustica render` accepts every such list: check_render_stop_rules).
+Options rendered_options(const RenderJob& job, const SessionProgress& progress);
+
 /// The PNG text chunks of a preview image: software, scene, integrator, camera, options, passes
 /// done; for a progressive accumulation also its pass limit, samples per pixel, photons, radius,
 /// estimated error and whether it was refining, paused or stopped.

@@ -3,6 +3,7 @@
 #include "ui/camera_input.h"
 #include "ui/key_events.h"
 #include "ui/keys.h"
+#include "ui/shortcuts.h"
 
 #include "core/scene/camera.h"
 
@@ -23,19 +24,6 @@
 namespace caustica::ui {
 namespace {
 
-/// From the platform's key queue, not ImGui::IsKeyPressed: that misses a tap shorter than a frame.
-/// A plain key (Shift allowed: Shift+E), with neither Ctrl, Alt nor Super held when it went down.
-bool pressed(int key, bool repeat = false) {
-    return key_pressed_with(key, 0, repeat) || key_pressed_with(key, key_mods::shift, repeat);
-}
-/// Ctrl+key (with `shift`: Ctrl+Shift+key), by the modifiers held at the press, so that a quick
-/// tap released before the frame reads io.KeyCtrl still counts and does not count as the plain key.
-bool ctrl_pressed(int key, bool shift = false, bool repeat = false) {
-    return key_pressed_with(key, key_mods::ctrl | (shift ? key_mods::shift : 0), repeat);
-}
-
-// Keys of the inspection tools (GLFW numbers: ASCII for letters and digits).
-constexpr int key_a = 65, key_b = 66, key_f = 70, key_i = 73, key_1 = 49;
 constexpr float split_grab_pixels = 6.0f;  // how near the split line a press grabs it
 
 double now_seconds() {
@@ -130,54 +118,67 @@ void ViewApp::note_camera_change() {
 }
 
 void ViewApp::handle_keys() {
+    // Typing never acts, and nothing acts while a widget has the keyboard (ui/shortcuts.h): a text
+    // field keeps its own undo, and letters typed after a missed click change nothing.
     const ImGuiIO& io = ImGui::GetIO();
-    if (ctrl_pressed(keys::s)) request_save(model_, state_);
-    if (ctrl_pressed(keys::q)) quit_ = true;
-    if (ctrl_pressed(keys::e)) model_.display().exposure = 0.0f;
-    if (!io.WantCaptureKeyboard) {  // a text field keeps its own undo
-        if (ctrl_pressed(keys::z, false, true)) model_.undo();
-        if (ctrl_pressed(keys::z, true, true) || ctrl_pressed(keys::y, false, true)) model_.redo();
-    }
-    if (io.WantCaptureKeyboard) return;
-    if (pressed(keys::f1) || pressed(keys::h)) state_.show_help = !state_.show_help;
-    if (pressed(keys::escape)) state_.show_help = false;
-    if (pressed(keys::r) || pressed(keys::home)) model_.reset_camera();
-    if (pressed(keys::f5)) model_.reload();
-    if (pressed(keys::space)) model_.set_paused(!model_.paused());
+    const bool keyboard_taken = io.WantTextInput || io.WantCaptureKeyboard || ImGui::IsAnyItemActive();
     OverlaySettings overlay = model_.overlay();
-    if (pressed(keys::o)) overlay.enabled = !overlay.enabled;
-    if (pressed(keys::c)) overlay.cells = !overlay.cells;
-    model_.set_overlay(overlay);
     CausticKnobs knobs = model_.knobs();
-    if (pressed(keys::p)) knobs.photons_only = !knobs.photons_only;
-    if (pressed(keys::d)) knobs.photon_dots = !knobs.photon_dots;
-    model_.set_knobs(knobs);
-    // The direction by the modifiers held at the press (a quick Shift+E tap is still "down").
-    const float stops = float(key_pressed_with(keys::e, 0)) - float(key_pressed_with(keys::e, key_mods::shift));
-    if (stops != 0.0f) model_.display().exposure = std::clamp(model_.display().exposure + stops, -6.0f, 6.0f);
-    if (pressed(keys::g)) model_.display().srgb = !model_.display().srgb;
-    for (const int arrow : {keys::left, keys::right, keys::up, keys::down})  // as --orbit YAW,PITCH
-        if (pressed(arrow, true)) model_.orbit(arrow_orbit(arrow)->x, arrow_orbit(arrow)->y);
-    if (pressed(keys::equal, true) || pressed(keys::keypad_add, true)) model_.zoom(1.0);
-    if (pressed(keys::minus, true) || pressed(keys::keypad_subtract, true)) model_.zoom(-1.0);
-    // Inspection: sidebar, image zoom, A/B.
-    if (pressed(keys::tab)) inspect_.sidebar_hidden = !inspect_.sidebar_hidden;
-    if (pressed(key_f)) inspect_.zoom.fit_area();
-    if (pressed(key_1)) {
-        const ImGuiIO& mouse = ImGui::GetIO();
-        const glm::vec2 at = layout_.contains(glm::vec2(mouse.MousePos.x, mouse.MousePos.y))
-                                 ? glm::vec2(mouse.MousePos.x, mouse.MousePos.y)
-                                 : 0.5f * area_;
-        inspect_.zoom.set_scale(layout_, glm::vec2(0.0f), area_, at, 1.0f);
+    float& exposure = model_.display().exposure;
+    // The arrows move the camera as --orbit YAW,PITCH does (ui/camera_input.h).
+    auto orbit_by = [&](int arrow) {
+        const glm::dvec2 degrees = *arrow_orbit(arrow);
+        model_.orbit(degrees.x, degrees.y);
+    };
+    for (Shortcut action : shortcuts_pressed(key_events(), keyboard_taken)) {
+        switch (action) {
+        case Shortcut::help: state_.show_help = !state_.show_help; break;
+        case Shortcut::close_help: state_.show_help = false; break;
+        case Shortcut::script_camera: model_.reset_camera(); break;
+        case Shortcut::reload: model_.reload(); break;
+        case Shortcut::pause: model_.set_paused(!model_.paused()); break;
+        case Shortcut::outline: overlay.enabled = !overlay.enabled; break;
+        case Shortcut::cells: overlay.cells = !overlay.cells; break;
+        case Shortcut::photons_only: knobs.photons_only = !knobs.photons_only; break;
+        case Shortcut::photon_dots: knobs.photon_dots = !knobs.photon_dots; break;
+        case Shortcut::exposure_up: exposure = std::min(exposure + 1.0f, 6.0f); break;
+        case Shortcut::exposure_down: exposure = std::max(exposure - 1.0f, -6.0f); break;
+        case Shortcut::exposure_reset: exposure = 0.0f; break;
+        case Shortcut::srgb: model_.display().srgb = !model_.display().srgb; break;
+        case Shortcut::orbit_left: orbit_by(keys::left); break;
+        case Shortcut::orbit_right: orbit_by(keys::right); break;
+        case Shortcut::orbit_up: orbit_by(keys::up); break;
+        case Shortcut::orbit_down: orbit_by(keys::down); break;
+        case Shortcut::zoom_in: model_.zoom(1.0); break;
+        case Shortcut::zoom_out: model_.zoom(-1.0); break;
+        case Shortcut::toggle_panels: inspect_.sidebar_hidden = !inspect_.sidebar_hidden; break;
+        case Shortcut::fit_image: inspect_.zoom.fit_area(); break;
+        case Shortcut::image_one_to_one: {
+            const glm::vec2 mouse(io.MousePos.x, io.MousePos.y);
+            const glm::vec2 at = layout_.contains(mouse) ? mouse : 0.5f * area_;
+            inspect_.zoom.set_scale(layout_, glm::vec2(0.0f), area_, at, 1.0f);
+            break;
+        }
+        case Shortcut::snapshot: inspect_.snapshot_requested = true; break;
+        case Shortcut::compare:
+            inspect_.mode = static_cast<CompareMode>((static_cast<int>(inspect_.mode) + 1) % 4);
+            break;
+        case Shortcut::readout: inspect_.readout = !inspect_.readout; break;
+        case Shortcut::save: request_save(model_, state_); break;
+        case Shortcut::quit: quit_ = true; break;
+        case Shortcut::undo: model_.undo(); break;
+        case Shortcut::redo: model_.redo(); break;
+        }
     }
-    if (pressed(key_b)) inspect_.snapshot_requested = true;
-    if (pressed(key_i)) inspect_.readout = !inspect_.readout;
-    if (pressed(key_a)) inspect_.mode = static_cast<CompareMode>((static_cast<int>(inspect_.mode) + 1) % 4);
+    model_.set_overlay(overlay);
+    if (!(knobs == model_.knobs())) model_.set_knobs(knobs);
 }
 
 void ViewApp::handle_region_keys() {
     // Ctrl+B arms the next left drag to draw the render region, as Blender's Cycles does; Ctrl+Alt+B
-    // clears it; Esc disarms (docs/PREVIEW.md, "Render region").
+    // clears it; Esc disarms (docs/PREVIEW.md, "Render region"). Not while a widget has the keyboard.
+    const ImGuiIO& io = ImGui::GetIO();
+    if (io.WantTextInput || io.WantCaptureKeyboard || ImGui::IsAnyItemActive()) return;
     if (key_pressed_with(keys::b, key_mods::ctrl)) {
         region_drag_.armed = !region_drag_.armed;
         if (region_drag_.armed) show_message(state_, "render region: drag a box on the image (Esc cancels)");

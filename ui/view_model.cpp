@@ -166,6 +166,9 @@ RenderJob ViewModel::compose(const JobInputs& inputs) const {
     job.width = std::max(1, static_cast<int>(std::lround(width * inputs.resolution_scale)));
     job.height = std::max(1, static_cast<int>(std::lround(height * inputs.resolution_scale)));
     job.camera = orbit_.desc();
+    // Seeded as --reproducible seeds, whatever the scene says: the copied command line (which adds
+    // --reproducible) renders the same bits, and a job that comes back renders as it did.
+    job.options.reproducible = true;
     return job;
 }
 

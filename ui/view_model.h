@@ -180,8 +180,13 @@ public:
     const std::vector<std::string>& scene_tokens() const { return inputs_.tokens; }
     /// The options the person's choices add after scene_tokens().
     std::vector<std::string> person_tokens() const;
-    /// `caustica render SCENE.lua --opt ...` that renders what is shown (except what notes() say).
+    /// `caustica render SCENE.lua --opt ... -o FILE` that renders what is shown, bit for bit (the
+    /// preview seeds as --reproducible does), except what command_line_notes() say.
     std::string command_line() const;
+    /// The file command_line() writes (-o): the name Save proposes, or, when the preview last saved
+    /// its image there, that name with "-render" before the extension, so the command never
+    /// overwrites the saved image.
+    std::string command_output() const;
     /// What the command line cannot reproduce (orbited camera, resolution scale, ...).
     std::vector<std::string> command_line_notes() const;
     /// Whether --a4 is in effect for the scene shown, and where it comes from ("" = off).

@@ -4,12 +4,14 @@
 
 #include "core/integrators/registry.h"
 
+#include "core/io/image_io.h"
 #include "core/photons/photon_tracer.h"
 #include "core/scene/source_location.h"
 #include "ui/view_model_internal.h"
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 namespace caustica::ui {
 namespace {
@@ -282,10 +284,20 @@ std::vector<std::string> ViewModel::person_tokens() const {
                 tokens.insert(tokens.end(), {"--target-error", exact_number(rules.target_error)});
         }
     }
+    if (job.options.reproducible && !before.reproducible) tokens.push_back("--reproducible");  // the preview's seeds
     if (job.options.threads != before.threads) tokens.insert(tokens.end(), {"--threads", std::to_string(job.options.threads)});
     if (display_.tonemap && *display_.tonemap != job.options.tonemap)
         tokens.insert(tokens.end(), {"--tonemap", tonemap_name(*display_.tonemap)});
     return tokens;
+}
+
+std::string ViewModel::command_output() const {
+    // Never the image the preview saved last: the command would overwrite it.
+    const std::string saved = last_saved_.empty() ? std::string() : absolute_path(last_saved_);
+    const std::string proposed = default_save_path();
+    if (saved.empty() || absolute_path(proposed) != saved) return proposed;
+    const std::filesystem::path path(proposed);
+    return (path.parent_path() / (path.stem().string() + "-render" + path.extension().string())).string();
 }
 
 std::string ViewModel::command_line() const {
@@ -294,7 +306,12 @@ std::string ViewModel::command_line() const {
     for (const std::string& folder : config_.allow_read) text += " --allow-read " + shell_quote(folder);  // the scene may need them
     for (const std::string& t : inputs_.tokens) text.append(" ").append(shell_quote(t));
     for (const std::string& t : person_tokens()) text.append(" ").append(shell_quote(t));
-    return text;
+    const std::string output = command_output();
+    // "PNG: apply the display exposure" saves the display's stops too (ViewModel::save).
+    const RenderJob job = current_job();
+    if (display_.exposure_to_png && display_.exposure != 0.0f && image_format_of(output) == ImageFormat::png)
+        text += " --exposure " + exact_number(job.options.exposure + display_.exposure);
+    return text + " -o " + shell_quote(output);
 }
 
 std::vector<std::string> ViewModel::command_line_notes() const {

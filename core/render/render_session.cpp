@@ -264,16 +264,18 @@ void RenderSession::start() {
     }
     tiles_done_ = 0;
     // The image and its tiles are (re)made here, on the thread that also fetches tiles.
-    if (image_.width != job_.width || image_.height != job_.height) {
-        image_ = Image(job_.width, job_.height);
-        tiles_ = make_tiles(job_.width, job_.height, tile_size);
-        tile_mutexes_ = std::make_unique<std::mutex[]>(tiles_.size());
-        tile_versions_ = std::make_unique<std::atomic<std::uint64_t>[]>(tiles_.size());
-        for (std::size_t i = 0; i < tiles_.size(); ++i) tile_versions_[i] = 0;
-    }
+    if (image_.width != job_.width || image_.height != job_.height) make_image(job_.width, job_.height);
     start_time_ = now_seconds();
     running_ = true;
     worker_ = std::thread([this] { run(); });
+}
+
+void RenderSession::make_image(int width, int height) {
+    image_ = Image(width, height);
+    tiles_ = make_tiles(width, height, tile_size);
+    tile_mutexes_ = std::make_unique<std::mutex[]>(tiles_.size());
+    tile_versions_ = std::make_unique<std::atomic<std::uint64_t>[]>(tiles_.size());
+    for (std::size_t i = 0; i < tiles_.size(); ++i) tile_versions_[i] = 0;
 }
 
 void RenderSession::run() {

@@ -78,6 +78,16 @@ struct SessionProgress {
     std::string stopped_by;  ///< why accumulation stopped: "passes", "time", "target error", "cancelled"
 };
 
+/// A progressive accumulation taken out of a session to be continued later (the preview keeps the
+/// last one a change restarted, so that undoing the change brings its passes back): the job it
+/// renders, the integrator's loop holding its sums, counts, radii and seeds, and its image.
+struct KeptAccumulation {
+    RenderJob job;
+    std::unique_ptr<RenderLoop> loop;
+    IntegratorKind kind = IntegratorKind::progressive;  ///< the integrator the loop belongs to
+    Image image;
+};
+
 /// Tile edge length in pixels.
 inline constexpr int tile_size = 16;
 /// Default block edge of the coarse preview pass (divides tile_size).
@@ -126,6 +136,17 @@ public:
     /// take_accumulation_snapshot returns (keyed by the job) once made.
     void request_accumulation_snapshot();
     bool take_accumulation_snapshot(AccumulationState& out);
+
+    /// Takes the stopped accumulation out of the session (the next job starts from nothing), to be
+    /// given back with restore_accumulation; null when there is none that resume() could continue.
+    /// Cancels and waits for a render in progress.
+    std::unique_ptr<KeptAccumulation> take_accumulation();
+
+    /// Sets `job`, which renders what kept->job renders (only its stopping rules and threads may
+    /// differ), and puts the kept accumulation back: its image is published at once and resume()
+    /// continues it from its pass count. False (and the job set, nothing to resume) when `kept`
+    /// does not fit the job's integrator or image size.
+    bool restore_accumulation(std::unique_ptr<KeptAccumulation> kept, const RenderJob& job);
 
     /// Changes the progressive stopping rules (--passes, --time, --target-error) of the job
     /// without restarting its accumulation; they take effect at the next start or resume.
@@ -221,6 +242,7 @@ private:
     void prepare_checked_scene();  // the job validated, its scene built, its option warnings
     void prepare_caustics();    // projection maps, photons, k-d tree
     void publish_caustic_stats();  // under mutex_
+    void make_image(int width, int height);  // the image and its tiles, at that size
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
     ShadingSetup make_setup() const;  // everything the integrator needs but the photon maps
     void render_direct_preview(tbb::task_arena& arena);  // a coarse direct-light pass before photons are shot

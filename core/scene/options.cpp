@@ -540,6 +540,12 @@ std::uint64_t hash_options_feeding(std::uint64_t h, const Options& options, unsi
     return x ^ (x >> 31);
 }
 
+void check_render_stop_rules(const Options& options) {
+    if (options.integrator == IntegratorKind::progressive && options.passes == 0 && options.time_limit <= 0.0 &&
+        options.target_error <= 0.0)
+        throw InputError("--passes 0 renders until another rule stops it: give --time or --target-error too");
+}
+
 std::string describe_non_default(const Options& options) {
     const Options defaults;
     std::string text;

@@ -157,6 +157,10 @@ std::string options_help();
 /// "--name value ..." for every option that differs from the defaults (PNG metadata, logs).
 std::string describe_non_default(const Options& options);
 
+/// Refuses, with InputError, stopping rules `caustica render` could never end: a progressive
+/// accumulation with --passes 0 and neither --time nor --target-error.
+void check_render_stop_rules(const Options& options);
+
 /// Levenshtein distance, for "did you mean" suggestions.
 int edit_distance(std::string_view a, std::string_view b);
 

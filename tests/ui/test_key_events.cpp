@@ -5,6 +5,7 @@
 #include "ui/frame_pacing.h"
 #include "ui/key_events.h"
 #include "ui/keys.h"
+#include "ui/shortcuts.h"
 #include "ui/view_arguments.h"
 #include "ui_test_support.h"
 #include "tests/time_bounds.h"
@@ -119,6 +120,103 @@ TEST(KeyEvents, TheProcessQueueAnswersKeyPressed) {
     events.begin_frame();
     EXPECT_FALSE(key_pressed(keys::s));
     events.clear();
+}
+
+/// The actions one press asks for, with nothing else pressed.
+std::vector<Shortcut> actions_of(int key, int mods, bool keyboard_taken = false) {
+    KeyEvents events;
+    events.press(key, mods);
+    events.begin_frame();
+    return shortcuts_pressed(events, keyboard_taken);
+}
+
+TEST(Shortcuts, TypingNeverActs) {
+    // Letters, digits and signs typed after a missed click, with or without Shift: nothing.
+    std::vector<int> typed = {keys::minus, keys::equal, keys::keypad_add, keys::keypad_subtract};
+    for (int key = 'A'; key <= 'Z'; ++key) typed.push_back(key);
+    for (int key = '0'; key <= '9'; ++key) typed.push_back(key);
+    for (int key : typed)
+        for (int mods : {0, key_mods::shift}) {
+            EXPECT_TRUE(types_text(key, mods)) << key;
+            EXPECT_TRUE(actions_of(key, mods).empty()) << "key " << key << " mods " << mods;
+        }
+}
+
+TEST(Shortcuts, EveryShortcutTakesCtrlOrAltOrTypesNothingButThePause) {
+    for (const ShortcutBinding& b : shortcut_bindings()) {
+        if (b.action == Shortcut::pause) continue;  // Space: a pause loses nothing
+        EXPECT_FALSE(types_text(b.key, b.mods)) << "key " << b.key << " mods " << b.mods;
+        if (b.shift_too) {
+            EXPECT_FALSE(types_text(b.key, b.mods | key_mods::shift)) << "key " << b.key;
+        }
+    }
+    EXPECT_FALSE(types_text(keys::f5, 0));
+    EXPECT_FALSE(types_text(keys::r, key_mods::ctrl));
+    EXPECT_FALSE(types_text(keys::o, key_mods::alt));
+}
+
+TEST(Shortcuts, ModifiedLettersAndKeysThatTypeNothingAct) {
+    using V = std::vector<Shortcut>;
+    EXPECT_EQ(actions_of(keys::o, key_mods::alt), V{Shortcut::outline});
+    EXPECT_EQ(actions_of(keys::r, key_mods::ctrl), V{Shortcut::script_camera});
+    EXPECT_EQ(actions_of(keys::home, 0), V{Shortcut::script_camera});
+    EXPECT_EQ(actions_of(keys::e, key_mods::alt), V{Shortcut::exposure_up});
+    EXPECT_EQ(actions_of(keys::e, key_mods::alt | key_mods::shift), V{Shortcut::exposure_down});
+    EXPECT_EQ(actions_of(keys::e, key_mods::ctrl), V{Shortcut::exposure_reset});
+    EXPECT_EQ(actions_of(keys::z, key_mods::ctrl), V{Shortcut::undo});
+    EXPECT_EQ(actions_of(keys::z, key_mods::ctrl | key_mods::shift), V{Shortcut::redo});
+    EXPECT_EQ(actions_of(keys::s, key_mods::ctrl), V{Shortcut::save});
+    EXPECT_EQ(actions_of(keys::f1, key_mods::shift), V{Shortcut::help});
+    EXPECT_EQ(actions_of(keys::space, 0), V{Shortcut::pause});
+    EXPECT_TRUE(actions_of(keys::o, key_mods::ctrl | key_mods::alt).empty()) << "modifiers match exactly";
+    KeyEvents events;  // auto-repeats step the arrows and undo, not the toggles
+    events.press(keys::left, 0, true);
+    events.press(keys::o, key_mods::alt, true);
+    events.begin_frame();
+    EXPECT_EQ(shortcuts_pressed(events, false), V{Shortcut::orbit_left});
+}
+
+TEST(Shortcuts, NothingActsWhileAWidgetHasTheKeyboard) {
+    for (const ShortcutBinding& b : shortcut_bindings())
+        EXPECT_TRUE(actions_of(b.key, b.mods, true).empty()) << "key " << b.key << " mods " << b.mods;
+}
+
+/// How the help writes a binding's keys: "Alt+Shift+E", "F5", "arrow keys".
+std::string help_name(const ShortcutBinding& b) {
+    std::string name;
+    if (b.mods & key_mods::ctrl) name += "Ctrl+";
+    if (b.mods & key_mods::alt) name += "Alt+";
+    if (b.mods & key_mods::shift) name += "Shift+";
+    switch (b.key) {
+    case keys::f1: return name + "F1";
+    case keys::f5: return name + "F5";
+    case keys::escape: return name + "Esc";
+    case keys::home: return name + "Home";
+    case keys::tab: return name + "Tab";
+    case keys::space: return name + "Space";
+    case keys::left: case keys::right: case keys::up: case keys::down: return "arrow keys";
+    case keys::keypad_add: return name + "=";  // the help names the main key of the pair
+    case keys::keypad_subtract: return name + "-";
+    default: return name + static_cast<char>(b.key);
+    }
+}
+
+TEST(Shortcuts, TheHelpNamesEveryShortcut) {
+    const auto rows = shortcut_help_rows();
+    for (const ShortcutBinding& b : shortcut_bindings()) {
+        const std::string name = help_name(b);
+        const bool listed = std::any_of(rows.begin(), rows.end(), [&](const auto& row) {
+            const std::string& keys_text = row.first;
+            for (std::size_t at = keys_text.find(name); at != std::string::npos; at = keys_text.find(name, at + 1)) {
+                const std::size_t end = at + name.size();
+                const bool starts = at == 0 || keys_text[at - 1] == ' ' || keys_text[at - 1] == ',';
+                const bool ends = end == keys_text.size() || keys_text[end] == ' ' || keys_text[end] == ',';
+                if (starts && ends) return true;
+            }
+            return false;
+        });
+        EXPECT_TRUE(listed) << name;
+    }
 }
 
 TEST(KeyEvents, AfterKeyIsAScriptedRunsOption) {

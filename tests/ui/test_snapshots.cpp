@@ -175,7 +175,7 @@ TEST(Snapshot, OverlayIsDrawnWhereTheOutlineIs) {
     ASSERT_TRUE(preview.settle());
     const std::vector<unsigned char> off = preview.snapshot();
     const std::uint64_t renders = preview.model->stage_counters().renders;
-    preview.frame(HeadlessInput{.keys = {keys::o}});  // O: the outline
+    preview.frame(HeadlessInput{.keys = {keys::o}, .alt = true});  // Alt+O: the outline
     ASSERT_TRUE(preview.run_until([&] { return preview.model->overlay_settled() && !preview.model->overlay_image().outline.empty(); }));
     const std::vector<unsigned char> on = preview.snapshot();
     EXPECT_EQ(preview.model->stage_counters().renders, static_cast<int>(renders));  // a GL overlay, not a render
@@ -241,7 +241,7 @@ TEST(Snapshot, DraggingOrbitsAndRReturnsToTheScriptsView) {
     ASSERT_TRUE(preview.settle());
     const std::vector<unsigned char> orbited = preview.snapshot();
     EXPECT_GT(image_difference(original, orbited, preview.app->layout()), 10.0);
-    preview.frame(HeadlessInput{.keys = {keys::r}});
+    preview.frame(HeadlessInput{.keys = {keys::home}});
     ASSERT_TRUE(preview.settle());
     EXPECT_FALSE(preview.model->orbit_camera().moved());
     EXPECT_EQ(image_difference(original, preview.snapshot(), preview.app->layout()), 0.0);
@@ -275,7 +275,7 @@ TEST(Snapshot, ViewTogglesDoNotShootPhotonsAgain) {
     Preview preview;
     ASSERT_TRUE(preview.settle());
     const auto before = preview.model->stage_counters();
-    preview.frame(HeadlessInput{.keys = {keys::p}});  // photons only
+    preview.frame(HeadlessInput{.keys = {keys::p}, .alt = true});  // Alt+P: photons only
     ASSERT_TRUE(preview.settle());
     EXPECT_TRUE(preview.model->knobs().photons_only);
     CausticKnobs k = preview.model->knobs();

@@ -36,7 +36,7 @@ TEST(SnapshotInspect, ComparisonModesShowCurrentAndReference) {
     Preview p;
     ASSERT_TRUE(p.settle()) << p.model->error();
     const std::vector<unsigned char> before = p.shot();
-    p.window.frame(*p.app, HeadlessInput{.keys = {key_b}});  // B: the image becomes the reference
+    p.window.frame(*p.app, HeadlessInput{.keys = {key_b}, .alt = true});  // Alt+B: the image becomes the reference
     InspectState& inspect = p.app->inspect();
     ASSERT_EQ(inspect.reference.width, p.model->driver().image().width);
     EXPECT_EQ(inspect.mode, CompareMode::split);  // a first reference shows the split at once
@@ -66,7 +66,7 @@ TEST(SnapshotInspect, ComparisonModesShowCurrentAndReference) {
     inspect.difference_stops = 0.0f;
 
     // Another image (photons only): split shows it left of the line and the reference right of it.
-    p.window.frame(*p.app, HeadlessInput{.keys = {keys::p}});
+    p.window.frame(*p.app, HeadlessInput{.keys = {keys::p}, .alt = true});
     ASSERT_TRUE(p.settle());
     inspect.mode = CompareMode::off;
     const std::vector<unsigned char> after = p.shot();
@@ -124,7 +124,7 @@ TEST(SnapshotInspect, ComparisonModesShowCurrentAndReference) {
     knobs.photons_only = false;
     p.model->set_knobs(knobs);
     ASSERT_TRUE(p.settle());
-    p.window.frame(*p.app, HeadlessInput{.keys = {key_b}});
+    p.window.frame(*p.app, HeadlessInput{.keys = {key_b}, .alt = true});
     knobs.num_neighbours = 60;
     p.model->set_knobs(knobs);
     ASSERT_TRUE(p.settle());

@@ -542,6 +542,98 @@ TEST(ViewModel, SaveNamesThePassesOfTheAccumulation) {
         EXPECT_EQ(error.rfind("unknown", 0), 0u) << error;
 }
 
+/// The progressive test scene at 64 x 48 pixels (passes of milliseconds), with `rules` for its
+/// gr.option.
+std::string small_progressive_box(const std::string& rules = "") {
+    std::string text = caustic_box_text(20000, "gr.option('--integrator progressive " + rules + "')\n");
+    const auto at = text.find("256, 192");
+    if (at != std::string::npos) text.replace(at, 8, "64, 48");
+    return text;
+}
+
+/// Updates until the driver has started another render; false on timeout.
+bool run_until_restarted(ViewModel& model, double seconds = 20.0) {
+    const std::uint64_t before = model.driver().restarts();
+    return run_until(model, [&] { return model.driver().restarts() > before; }, seconds);
+}
+
+/// Pauses and waits for the render to stop.
+bool pause_and_wait(ViewModel& model) {
+    model.set_paused(true);
+    return run_until(model, [&] { return !model.driver().busy(); }, 10.0);
+}
+
+TEST(ViewModel, UndoingAChangeBringsBackTheAccumulationItRestartedWithItsPassesAndImage) {
+    TempFolder folder;
+    ViewModel model(test_config());
+    model.open(folder.write("scene.lua", small_progressive_box("--passes 12")));
+    const PreviewDriver& driver = model.driver();
+    ASSERT_TRUE(run_until_finished(model)) << model.error();
+    ASSERT_EQ(driver.accumulation().passes_done, 12);
+    const std::vector<glm::vec3> finished = driver.image().pixels;
+
+    CausticKnobs k = model.knobs();
+    k.num_photons = 30000;  // a change that restarts the accumulation (and shoots photons again)
+    model.set_knobs(k);
+    ASSERT_TRUE(run_until_passes(model, 1)) << model.error();
+    ASSERT_TRUE(pause_and_wait(model));
+    ASSERT_LT(driver.accumulation().passes_done, 12) << "the new accumulation overtook the old one";
+    EXPECT_EQ(driver.kept_passes(), 12);
+
+    model.undo();
+    ASSERT_TRUE(run_until_restarted(model));
+    EXPECT_EQ(driver.job().options.caustic_num_photons, 20000);
+    EXPECT_EQ(driver.accumulation().passes_done, 12) << "the old accumulation, not a fresh start";
+    EXPECT_EQ(driver.kept_passes(), 0) << "the short one it replaced is not worth keeping";
+    ASSERT_TRUE(run_until_finished(model)) << model.error();
+    EXPECT_EQ(driver.accumulation().passes_done, 12);
+    EXPECT_EQ(driver.image().pixels, finished) << "its image, with no pass added or redone";
+}
+
+TEST(ViewModel, ACameraThatComesBackContinuesTheAccumulationUntilAFreshOneOvertakesIt) {
+    TempFolder folder;
+    ViewModel model(test_config());
+    model.open(folder.write("scene.lua", small_progressive_box()));
+    const PreviewDriver& driver = model.driver();
+    ASSERT_TRUE(run_until_passes(model, 9)) << model.error();
+    ASSERT_TRUE(pause_and_wait(model));
+    const int kept = driver.accumulation().passes_done;
+
+    model.orbit(20.0, 0.0);  // restarts the refinement: the long one is kept
+    ASSERT_TRUE(run_until_passes(model, 1)) << model.error();
+    ASSERT_TRUE(pause_and_wait(model));
+    const int short_one = driver.accumulation().passes_done;
+    ASSERT_LT(short_one, kept);
+    EXPECT_EQ(driver.kept_passes(), kept);
+
+    model.reset_camera();  // the script's camera again: the kept passes continue
+    ASSERT_TRUE(run_until_restarted(model));
+    EXPECT_GE(driver.accumulation().passes_done, kept);
+    ASSERT_TRUE(run_until_passes(model, kept + 2)) << "it refines on from its passes";
+
+    // A fresh accumulation that gets ahead of the kept one drops it: at most one is kept.
+    model.orbit(20.0, 0.0);
+    ASSERT_TRUE(run_until_restarted(model));
+    EXPECT_GE(driver.kept_passes(), kept + 2);
+    const int ahead = driver.kept_passes() + 1;
+    ASSERT_TRUE(run_until_passes(model, ahead)) << model.error();
+    EXPECT_EQ(driver.kept_passes(), 0);
+    ASSERT_TRUE(pause_and_wait(model));
+    model.reset_camera();
+    ASSERT_TRUE(run_until_restarted(model));
+    EXPECT_LT(driver.accumulation().passes_done, ahead) << "nothing kept: the script camera starts again";
+}
+
+TEST(ViewModel, AShortAccumulationIsNotKept) {
+    TempFolder folder;
+    ViewModel model(test_config());
+    model.open(folder.write("scene.lua", small_progressive_box("--passes 3")));
+    ASSERT_TRUE(run_until_finished(model)) << model.error();
+    model.orbit(20.0, 0.0);
+    ASSERT_TRUE(run_until_restarted(model));
+    EXPECT_EQ(model.driver().kept_passes(), 0);
+}
+
 TEST(ViewArguments, ParsesTheViewCommandLine) {
     const ViewArguments a = parse_view_arguments(
         {"scene.lua", "--frames", "12", "--snapshot=out.png", "--overlay", "--orbit", "30,-10.5", "--headless",

@@ -91,6 +91,8 @@ void expect_preview_job_is_render_job(const std::string& scene, const std::vecto
     const Options render = render_options(scene, tokens);
     Options shown = shown_options(model);
     const std::vector<Difference> differences = model.differences();
+    EXPECT_TRUE(shown.reproducible) << "the preview seeds as --reproducible does";
+    shown.reproducible = render.reproducible;  // which the copied command line adds when the scene has not
     if (render.integrator == IntegratorKind::progressive && !render.accumulates()) {
         ASSERT_EQ(differences.size(), 1u);
         EXPECT_EQ(differences[0].id, "stop");
@@ -136,7 +138,7 @@ TEST(Wysiwyg, CommandLineReproducesThePersonsChoicesAndEachResets) {
     model.open(scene);
     ASSERT_TRUE(loaded(model, scene)) << model.error();
     EXPECT_TRUE(model.differences().empty());
-    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible --threads 2");
+    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible --threads 2 -o caustic_box.png");
 
     model.set_preset("draft");
     CausticKnobs k = model.knobs();
@@ -222,7 +224,7 @@ TEST(Wysiwyg, CommandLineOptionsBelongToTheirSceneOnly) {
     model.set_a4(true);
     EXPECT_TRUE(model.current_job().options.a4);
     EXPECT_EQ(model.a4_origin(), "ticked here");
-    EXPECT_EQ(model.command_line(), "caustica render " + b + " --a4");
+    EXPECT_EQ(model.command_line(), "caustica render " + b + " --a4 --reproducible -o caustic_box.png");
 
     model.open(a);  // its options come back with it
     ASSERT_TRUE(loaded(model, a));
@@ -582,7 +584,7 @@ TEST(Wysiwyg, CopiedCommandKeepsAllowReadAndTheDisplayExposureNeverScalesAnExr) 
     ASSERT_TRUE(loaded(model, scene)) << model.error();
     // The batch command must be allowed to read what the preview read.
     EXPECT_EQ(model.command_line(),
-              "caustica render " + scene + " --allow-read " + folder.file("textures") + " --reproducible");
+              "caustica render " + scene + " --allow-read " + folder.file("textures") + " --reproducible -o caustic_box.png");
 
     ASSERT_TRUE(run_until_finished(model, 30.0));
     model.display().exposure = 3.0f;
@@ -649,7 +651,7 @@ TEST(Wysiwyg, ThePickedToneCurveIsShownSavedAndOnTheCommandLine) {
     ASSERT_TRUE(std::any_of(differences.begin(), differences.end(), [](const Difference& d) {
         return d.id == "tonemap" && d.scene == "clamp" && d.shown == "filmic";
     }));
-    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible --tonemap filmic");
+    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible --tonemap filmic -o caustic_box.png");
     // The PNG takes the curve shown (with the scene's exposure: the display's is added only when asked).
     ASSERT_EQ(model.save(folder.file("a.png"), false).outcome, SaveOutcome::written);
     const Png8 png = read_png(folder.file("a.png"));
@@ -664,7 +666,87 @@ TEST(Wysiwyg, ThePickedToneCurveIsShownSavedAndOnTheCommandLine) {
                     << x << ", " << y;
     model.reset_difference("tonemap");
     EXPECT_EQ(model.view_transform().tonemap, Tonemap::clamp);
-    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible");
+    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible -o caustic_box.png");
+}
+
+TEST(Wysiwyg, CopiedCommandIsReproducibleAndNeverOverwritesTheSavedImage) {
+    TempFolder folder;
+    const std::string scene = folder.write("box.lua", tiny_box(3000));
+    const caustica::testing::InFolder here(folder.path());  // where the script's output name lands
+    ViewModel model(config_with({}));                       // no --reproducible given
+    model.open(scene);
+    ASSERT_TRUE(loaded(model, scene)) << model.error();
+    EXPECT_TRUE(model.current_job().options.reproducible) << "the preview seeds as --reproducible does";
+    EXPECT_TRUE(model.differences().empty()) << "which changes nothing to list";
+    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible -o caustic_box.png");
+    ASSERT_TRUE(run_until_finished(model, 30.0)) << model.error();
+
+    ASSERT_EQ(model.save(folder.file("elsewhere.png"), false).outcome, SaveOutcome::written);
+    EXPECT_EQ(model.command_output(), "caustic_box.png") << "nothing saved there";
+    ASSERT_EQ(model.save(model.default_save_path(), false).outcome, SaveOutcome::written);
+    EXPECT_EQ(model.command_output(), "caustic_box-render.png");
+    EXPECT_EQ(model.command_line(), "caustica render " + scene + " --reproducible -o caustic_box-render.png");
+
+    // "PNG: apply the display exposure" saved the display's stops too: the command says them.
+    model.display().exposure = 2.0f;
+    model.display().exposure_to_png = true;
+    EXPECT_EQ(model.command_line(),
+              "caustica render " + scene + " --reproducible --exposure 2 -o caustic_box-render.png");
+}
+
+/// The caustica:options of a saved PNG, parsed as `caustica render` parses options and checked by
+/// its refusal of stopping rules it could never end (check_render_stop_rules).
+void expect_render_accepts_the_options_of(const std::string& png, const std::string& state) {
+    SCOPED_TRACE(state);
+    std::map<std::string, std::string> text;
+    for (const auto& [key, value] : read_png(png).text) text[key] = value;
+    const std::string& written = text["caustica:options"];
+    Options o;
+    ASSERT_NO_THROW(apply_option_tokens(o, split_option_string(written))) << written;
+    EXPECT_NO_THROW(check_render_stop_rules(o)) << written;
+    EXPECT_TRUE(o.reproducible) << written;
+    if (text.count("caustica:state") && text["caustica:state"].rfind("stopped", 0) != 0) {
+        // Saved before its end: the options render the passes it holds.
+        EXPECT_EQ(std::to_string(o.pass_limit()), text["caustica:passes"]) << written;
+        EXPECT_EQ(o.time_limit, 0.0) << written;
+        EXPECT_EQ(text["caustica:state"], state);
+    }
+}
+
+TEST(Wysiwyg, EveryOptionListASavedImageHoldsIsOneRenderAccepts) {
+    TempFolder folder;
+    const std::string endless = folder.write("endless.lua", tiny_box(2000, "gr.option('--integrator progressive')\n"));
+    const std::string timed = folder.write("timed.lua", tiny_box(2000, "gr.option('--integrator progressive --time 600')\n"));
+    const std::string limited = folder.write("limited.lua", tiny_box(2000, "gr.option('--integrator progressive --passes 3')\n"));
+    const std::string classic = folder.write("classic.lua", tiny_box(2000));
+    ViewModel model(config_with({}));
+    int saves = 0;
+    auto save = [&] {
+        const std::string path = folder.file("saved-" + std::to_string(++saves) + ".png");
+        const SaveResult r = model.save(path, false);
+        EXPECT_EQ(r.outcome, SaveOutcome::written) << r.message;
+        return path;
+    };
+    auto refine = [&](const std::string& scene) {
+        model.open(scene);
+        ASSERT_TRUE(loaded(model, scene)) << model.error();
+        ASSERT_TRUE(run_until(model, [&] { return !model.changes_pending() && model.driver().accumulation().passes_done >= 2; }, 30.0));
+    };
+    refine(endless);
+    expect_render_accepts_the_options_of(save(), "refining");  // was --passes 0
+    model.set_paused(true);
+    ASSERT_TRUE(run_until(model, [&] { return !model.driver().busy(); }, 30.0));
+    expect_render_accepts_the_options_of(save(), "paused");
+    refine(timed);
+    expect_render_accepts_the_options_of(save(), "refining");  // --passes N in place of --time 600
+    model.open(limited);
+    ASSERT_TRUE(loaded(model, limited)) << model.error();
+    ASSERT_TRUE(run_until_finished(model, 30.0)) << model.error();
+    expect_render_accepts_the_options_of(save(), "stopped by the pass limit");
+    model.open(classic);
+    ASSERT_TRUE(loaded(model, classic)) << model.error();
+    ASSERT_TRUE(run_until_finished(model, 30.0)) << model.error();
+    expect_render_accepts_the_options_of(save(), "classic, complete");
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 # The real window under Xvfb: `caustica view` must open a GLFW window (not fall back to headless),
 # render the scene with the overlay on and orbited, and write a snapshot that snapshot_check accepts.
 # With xdotool, a key tap (press and release sent back to back, so both reach GLFW within one frame,
-# where ImGui 1.86's own key state never shows the key down) must turn the occupied cells on (C):
+# where ImGui 1.86's own key state never shows the key down) must turn the occupied cells on (Alt+C):
 # ui/key_events.h.
 # usage: xvfb_view_test.sh CAUSTICA SNAPSHOT_CHECK SCENE.lua [LIBRARY_KEPT_LOADED]
 # LIBRARY_KEPT_LOADED (AddressSanitizer builds, see CMakeLists.txt) is preloaded into caustica only.
@@ -32,7 +32,7 @@ if ! XDG_CONFIG_HOME="$out" xvfb-run -a -s "-screen 0 1280x720x24" bash -c '
          # beside the image: no hover readout over the overlay).
          if id=$(timeout 120 xdotool search --sync --onlyvisible --name "^caustica view"); then
            xdotool mousemove --sync --window "$id" 20 700
-           xdotool windowfocus --sync "$id" key c || echo "xdotool could not send the key" >>"$out/log"
+           xdotool windowfocus --sync "$id" key alt+c || echo "xdotool could not send the key" >>"$out/log"
          else
            echo "xdotool did not find the window" >>"$out/log"
          fi
