@@ -180,6 +180,7 @@ void save_choice(ViewModel& model, PanelState& state) {
 void message(ViewModel& model, PanelState& state, glm::vec2 area) {
     if (std::optional<SaveResult> scheduled = model.take_scheduled_result())
         show_message(state, saved_message(model, *scheduled), scheduled->outcome != SaveOutcome::written);
+    if (std::optional<ModelNote> note = model.take_note()) show_message(state, note->text, note->problem);
     if (!model.scheduled_save().empty() && (state.message.empty() || ImGui::GetTime() > state.message_until))
         show_message(state, "will save " + model.scheduled_save() + " when the render is done");
     if (state.message.empty() || ImGui::GetTime() > state.message_until) return;

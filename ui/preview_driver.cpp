@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <thread>
+#include <utility>
 
 namespace caustica::ui {
 namespace {
@@ -28,7 +29,10 @@ constexpr std::size_t pass_history_length = 240;
 
 PreviewDriver::PreviewDriver(DriverSettings settings) : settings_(settings) {}
 
-void PreviewDriver::request(const RenderJob& job) { pending_ = job; }
+void PreviewDriver::request(const RenderJob& job) {
+    pending_ = job;
+    pending_saved_.reset();
+}
 
 void PreviewDriver::pause() {
     if (busy()) paused_ = true;  // advance() cancels the render
@@ -235,10 +239,11 @@ void PreviewDriver::restart() {
         fetch();
         session_.set_coarse_preview(settings_.coarse_preview, settings_.preview_block);
         restored = restore_kept_accumulation();
+        std::optional<AccumulationState> saved = std::exchange(pending_saved_, std::nullopt);
         if (!restored) {
             keep_accumulation();
             session_.set_job(job_);  // the worker has stopped: joining it is immediate
-            session_.start();
+            if (!saved || !start_saved_accumulation(std::move(*saved))) session_.start();
         }
     } catch (const std::exception& e) {
         error_ = e.what();

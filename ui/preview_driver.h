@@ -6,6 +6,7 @@
 // knows about GL.
 #pragma once
 
+#include "core/render/accumulation_state.h"
 #include "core/render/render_session.h"
 
 #include <cstdint>
@@ -65,6 +66,19 @@ public:
     /// Asks for `job` to be rendered next (the newest request wins). A request made while paused
     /// ends the pause: the new job is rendered.
     void request(const RenderJob& job);
+
+    /// What became of a saved accumulation handed to request_continuing, once its job started.
+    struct SavedStart {
+        int passes = 0;       ///< the passes it held
+        std::string refusal;  ///< why the session refused it ("" = continued)
+    };
+    /// Asks for `job` as request() does, continuing `saved`, an accumulation of that job read from
+    /// its file (docs/OUTPUT.md, "Resuming an accumulation"), unless the accumulation kept aside
+    /// continues it (kept_passes). take_saved_start() says what became of it.
+    void request_continuing(const RenderJob& job, AccumulationState saved);
+    /// What became of the last saved accumulation handed over, once (nothing: not started yet,
+    /// replaced by a newer request, or the accumulation kept aside went on instead).
+    std::optional<SavedStart> take_saved_start();
 
     /// Stops the running render, keeping what a progressive accumulation has gathered; the image
     /// stays as it is. Does nothing when no render is running.
@@ -187,6 +201,7 @@ private:
     bool worth_keeping(const SessionProgress& accumulation) const;  // keep_after_passes or _seconds
     void keep_accumulation();      // before a new job: the stopped accumulation, when worth keeping
     void drop_overtaken_accumulation();  // the kept one, once a fresh accumulation has more passes
+    bool start_saved_accumulation(AccumulationState saved);  // after set_job: false when the session refuses it
 
     DriverSettings settings_;
     RenderSession session_;
@@ -201,6 +216,8 @@ private:
     std::unique_ptr<KeptAccumulation> kept_;  // the one accumulation kept aside (preview_driver_keep.cpp)
     SessionProgress kept_progress_;           // what it showed
     bool kept_overtakable_ = false;           // a fresh accumulation runs since it was kept
+    std::optional<AccumulationState> pending_saved_;  // read from a file, for the pending job
+    std::optional<SavedStart> saved_start_;
     double started_at_ = 0.0, stats_polled_at_ = 0.0;
     double pass_clock_ = 0.0;  // when the accumulation's pass count last changed (or it started)
     std::uint64_t clock_generation_ = 0;  // the render pass_clock_ belongs to

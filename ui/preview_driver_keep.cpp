@@ -1,10 +1,14 @@
 // The accumulation the preview keeps aside (PreviewDriver::kept_passes): a change that restarts a
 // long progressive accumulation keeps it, and the job coming back continues it from its passes
 // (docs/PREVIEW.md, "Progressive refinement"). At most one is kept: it holds the accumulator's
-// sums, a few hundred bytes a pixel.
+// sums, a few hundred bytes a pixel. A job may also continue an accumulation saved in a file
+// (docs/PREVIEW.md, "Resume"), when none kept continues it.
 #include "ui/preview_driver.h"
 
 #include "core/scene/options.h"
+#include "core/scene/source_location.h"
+
+#include <utility>
 
 namespace caustica::ui {
 namespace {
@@ -62,6 +66,25 @@ std::optional<SessionProgress> PreviewDriver::restore_kept_accumulation() {
 void PreviewDriver::drop_overtaken_accumulation() {
     if (kept_ && kept_overtakable_ && accumulation_.accumulating && accumulation_.passes_done > kept_progress_.passes_done)
         kept_.reset();
+}
+
+void PreviewDriver::request_continuing(const RenderJob& job, AccumulationState saved) {
+    request(job);
+    pending_saved_ = std::move(saved);
+}
+
+std::optional<PreviewDriver::SavedStart> PreviewDriver::take_saved_start() { return std::exchange(saved_start_, std::nullopt); }
+
+bool PreviewDriver::start_saved_accumulation(AccumulationState saved) {
+    const int passes = saved.next_pass;
+    try {
+        session_.start_from(std::move(saved));
+    } catch (const InputError& e) {  // another job's after all: the job starts from nothing
+        saved_start_ = SavedStart{passes, e.what()};
+        return false;
+    }
+    saved_start_ = SavedStart{passes, ""};
+    return true;
 }
 
 }  // namespace caustica::ui

@@ -184,7 +184,7 @@ void ViewModel::update() {
         try {
             const RenderJob job = compose(inputs_);
             clear_region_of_another_view(job);
-            driver_.request(job);
+            request_job(job);
             requested_inputs_ = inputs_;
         } catch (const std::exception& e) {
             error_ = printable_text(e.what());
@@ -192,6 +192,7 @@ void ViewModel::update() {
         dirty_ = false;
     }
     driver_.update();
+    follow_saved_accumulations();
     if (driver_.restarts() != seen_restarts_) {
         seen_restarts_ = driver_.restarts();
         running_inputs_ = requested_inputs_;
@@ -304,7 +305,10 @@ SaveResult ViewModel::save(const std::string& path, bool overwrite) {
     const OutputPlace place = script_named ? OutputPlace::inside_current_folder : OutputPlace::anywhere;
     SaveResult result = save_preview_image(script_named ? path : absolute, driver_.image(), driver_.job(), scene_path_,
                                            progress, overwrite, tone, place);
-    if (result.outcome == SaveOutcome::written) last_saved_ = absolute;
+    if (result.outcome == SaveOutcome::written) {
+        last_saved_ = absolute;
+        result.message += save_accumulation(script_named ? path : absolute, script_named);
+    }
     return result;
 }
 

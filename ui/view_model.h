@@ -18,6 +18,7 @@
 #include "ui/overlay_geometry.h"
 #include "ui/preview_driver.h"
 #include "ui/save_image.h"
+#include "ui/saved_accumulation.h"
 #include "ui/scene_source.h"
 #include "ui/view_transform.h"
 
@@ -25,6 +26,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace caustica::ui {
@@ -299,6 +301,11 @@ public:
     /// The absolute path of the last image written ("" = none yet).
     const std::string& last_saved() const { return last_saved_; }
 
+    // --- resuming a saved accumulation (docs/PREVIEW.md, "Resume")
+    /// What the model has to tell the person about saved accumulations, once: one continued, one
+    /// ignored and why, the state a save while refining wrote at the end of its pass.
+    std::optional<ModelNote> take_note() { return std::exchange(note_, std::nullopt); }
+
     // --- camera as text
     /// The camera shown as gr.render arguments (see camera_lua).
     std::string camera_text() const { return camera_lua(orbit_.desc()); }
@@ -351,6 +358,11 @@ private:
     std::vector<std::string>& tokens_of(const std::string& path);
     void recall_integrator();       // a scene opened: the person's integrator for it, unless its command line sets one
     void remember_integrator();     // after a change: keeps the person's integrator for the scene (or forgets it)
+    // Saved accumulations (ui/view_model_resume.cpp).
+    void request_job(const RenderJob& job);  // continuing the accumulation saved beside Save's name, if any
+    RenderJob rendered_job(const RenderJob& shown, const JobInputs& inputs) const;  // as `caustica render` composes it
+    std::string save_accumulation(const std::string& image_path, bool inside_current_folder);  // beside a saved image
+    void follow_saved_accumulations();  // per frame: what the driver did with one, a snapshot to write
 
     ModelConfig config_;
     SceneSource source_;
@@ -391,6 +403,19 @@ private:
     std::uint64_t overlay_version_ = 0;
     CameraDesc projected_camera_;
     int projected_width_ = 0, projected_height_ = 0;
+
+    SavedAccumulations saved_accumulations_;
+    std::weak_ptr<const SceneScript> looked_for_state_of_;  // the scene a state was last looked for
+    std::string continuing_from_;  // the state file handed to the driver
+    /// A save while refining: its state is written from the snapshot of the pass under way.
+    struct StateToWrite {
+        std::string path, shown;  // as written, and absolute for the person
+        bool inside_current_folder = false;
+        RenderJob rendered;
+        std::uint64_t restarts = 0;  // the driver's, when asked: another job started since ends it
+    };
+    std::optional<StateToWrite> state_to_write_;
+    std::optional<ModelNote> note_;
 
     CameraDesc region_camera_;  // the view the render region was drawn on
     int region_width_ = 0, region_height_ = 0;
