@@ -5,7 +5,7 @@
 uniform sampler2D u_image;     // RGB32F, row 0 = the image's top row (A: the current render)
 uniform sampler2D u_reference; // RGB32F of the same size (B), bound only when u_mode != 0
 uniform float u_exposure;      // multiplier, 2^stops
-uniform vec3 u_tonemap;        // weights of the curves clamp, Reinhard, filmic (image.frag)
+uniform vec3 u_tonemap;        // weights of the curves clamp, Reinhard, filmic (image.frag's TONE_CURVE)
 uniform bool u_srgb;
 uniform bool u_whole_pixels;   // magnified by a whole factor: fetch texels directly (cheaper in llvmpipe)
 uniform int u_mode;            // 0 image, 1 split (A left of u_split, B right), 2 |A - B| x u_gain, 3 relative error

@@ -2,18 +2,26 @@
 
 #include "ui/shader_sources.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
 namespace caustica::ui {
 namespace {
 
-GLuint compile(GLenum kind, std::string_view name) {
+GLuint compile(GLenum kind, std::string_view name, std::string_view defines = {}) {
     const std::string_view text = shader_source(name);
+    // The #version line must come first: the defines go right after it.
+    const std::size_t first_line = std::min(text.find('\n'), text.size() - 1) + 1;
+    const std::string_view parts[3] = {text.substr(0, first_line), defines, text.substr(first_line)};
+    const GLchar* data[3];
+    GLint length[3];
+    for (int i = 0; i < 3; ++i) {
+        data[i] = parts[i].empty() ? "" : parts[i].data();  // never a null string, even of length 0
+        length[i] = static_cast<GLint>(parts[i].size());
+    }
     const GLuint shader = glCreateShader(kind);
-    const GLchar* data = text.data();
-    const GLint length = static_cast<GLint>(text.size());
-    glShaderSource(shader, 1, &data, &length);
+    glShaderSource(shader, 3, data, length);
     glCompileShader(shader);
     GLint ok = GL_FALSE;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
@@ -26,11 +34,11 @@ GLuint compile(GLenum kind, std::string_view name) {
 
 }  // namespace
 
-GlProgram::GlProgram(std::string_view vertex, std::string_view fragment) {
+GlProgram::GlProgram(std::string_view vertex, std::string_view fragment, std::string_view defines) {
     const GLuint vs = compile(GL_VERTEX_SHADER, vertex);
     GLuint fs = 0;
     try {
-        fs = compile(GL_FRAGMENT_SHADER, fragment);
+        fs = compile(GL_FRAGMENT_SHADER, fragment, defines);
     } catch (...) {
         glDeleteShader(vs);
         throw;

@@ -11,9 +11,10 @@ namespace caustica::ui {
 class GlProgram {
 public:
     GlProgram() = default;
-    /// Compiles and links shaders/<vertex> and shaders/<fragment>; throws std::runtime_error with
-    /// the compiler's log on failure.
-    GlProgram(std::string_view vertex, std::string_view fragment);
+    /// Compiles and links shaders/<vertex> and shaders/<fragment>, the fragment shader with `defines`
+    /// (lines such as "#define TONE_CURVE 1\n") after its #version line; throws std::runtime_error
+    /// with the compiler's log on failure.
+    GlProgram(std::string_view vertex, std::string_view fragment, std::string_view defines = {});
     ~GlProgram();
     GlProgram(GlProgram&& other) noexcept : id_(other.id_) { other.id_ = 0; }
     GlProgram& operator=(GlProgram&& other) noexcept;

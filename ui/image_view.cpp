@@ -18,7 +18,10 @@ void set_texture_parameters() {
 }  // namespace
 
 ImageView::ImageView()
-    : program_("image.vert", "image.frag"), compare_program_("image.vert", "image_compare.frag") {
+    : programs_{GlProgram("image.vert", "image.frag", "#define TONE_CURVE 0\n"),
+                GlProgram("image.vert", "image.frag", "#define TONE_CURVE 1\n"),
+                GlProgram("image.vert", "image.frag", "#define TONE_CURVE 2\n")},
+      compare_program_("image.vert", "image_compare.frag") {
     glGenVertexArrays(1, &vertex_array_);  // core profile: a bound VAO even without attributes
     glGenTextures(1, &texture_);
     glBindTexture(GL_TEXTURE_2D, texture_);
@@ -92,18 +95,19 @@ void ImageView::draw(const ImageLayout& layout, glm::vec2 window, const ViewTran
     const int mode = reference_matches() ? compare.mode : 0;
     // The plain image has its own branch-free program: llvmpipe runs every branch of a shader, and
     // the comparison code tripled the cost of every frame's image quad (docs/PERFORMANCE.md).
-    const GlProgram& program = mode != 0 ? compare_program_ : program_;
+    // Each tone curve has its own program too (TONE_CURVE in image.frag).
+    const GlProgram& program = mode != 0 ? compare_program_ : programs_[tone_curve_index(view.tonemap)];
     glUseProgram(program.id());
     const glm::vec2 size = layout.size();
     glUniform4f(program.uniform("u_rect"), layout.origin.x, layout.origin.y, size.x, size.y);
     glUniform2f(program.uniform("u_window"), window.x, window.y);
     glUniform1f(program.uniform("u_exposure"), std::exp2(view.exposure_stops));
-    const glm::vec3 curve = tonemap_weights(view.tonemap);
-    glUniform3f(program.uniform("u_tonemap"), curve.x, curve.y, curve.z);
     glUniform1i(program.uniform("u_image"), 0);
     if (mode == 0) {
         glUniform1f(program.uniform("u_srgb"), view.srgb ? 1.0f : 0.0f);
     } else {
+        const glm::vec3 curve = tonemap_weights(view.tonemap);
+        glUniform3f(program.uniform("u_tonemap"), curve.x, curve.y, curve.z);
         glUniform1i(program.uniform("u_srgb"), view.srgb ? 1 : 0);
         glUniform1i(program.uniform("u_reference"), 1);
         glUniform1i(program.uniform("u_mode"), mode);

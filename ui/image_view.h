@@ -47,7 +47,7 @@ public:
 private:
     void upload_rect(const Image& image, int x0, int y0, int x1, int y1);
 
-    GlProgram program_;          ///< shaders/image.frag: the plain image
+    GlProgram programs_[3];      ///< shaders/image.frag: the plain image, one program per tone curve (tone_curve_index)
     GlProgram compare_program_;  ///< shaders/image_compare.frag: the A/B modes, only while they are shown
     GLuint texture_ = 0, reference_ = 0, vertex_array_ = 0;
     int width_ = 0, height_ = 0;

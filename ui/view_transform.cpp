@@ -4,6 +4,15 @@
 
 namespace caustica::ui {
 
+int tone_curve_index(Tonemap op) {
+    switch (op) {
+        case Tonemap::clamp: return 0;
+        case Tonemap::reinhard: return 1;
+        case Tonemap::filmic: return 2;
+    }
+    return 0;
+}
+
 glm::vec3 tonemap_weights(Tonemap op) {
     switch (op) {
         case Tonemap::clamp: return {1.0f, 0.0f, 0.0f};

@@ -20,9 +20,11 @@ struct ViewTransform {
     bool operator==(const ViewTransform&) const = default;
 };
 
-/// The shaders' u_tonemap: one weight per curve (clamp, Reinhard, filmic), 1 for `op`, 0 for the
-/// others. The shaders compute the three curves and weight them: no branch for llvmpipe to run.
+/// image_compare.frag's u_tonemap: one weight per curve (clamp, Reinhard, filmic), 1 for `op`, 0
+/// for the others. It computes the three curves and weights them: no branch for llvmpipe to run.
 glm::vec3 tonemap_weights(Tonemap op);
+/// The TONE_CURVE of shaders/image.frag that draws `op`: 0 clamp, 1 Reinhard, 2 filmic.
+int tone_curve_index(Tonemap op);
 
 /// The value the shaders display for a linear colour (each channel in [0, 1]), as the shaders
 /// compute it: x = max(linear 2^stops, 0); clamp min(x, 1), Reinhard x / (1 + x), filmic
