@@ -11,6 +11,7 @@
 //          [--compare-pacing (both pacings, alternating)] [--draw-profile (where an idle frame's time goes)]
 //          [--draw-variants [--fragment FILE] (the image's draw cost by texture format and shader)]
 //          [--drag (a continuous drag, both pacings, --frames frames)]
+//          [--launch [--changes N] (opening the scene to its first image, classic and progressive)]
 #include "ui/frame_pacing.h"
 #include "ui/headless_window.h"
 #include "ui/preview_driver.h"
@@ -450,12 +451,53 @@ void frame_times(const std::string& scene, int frames, double resolution_scale, 
                 what, s.median, s.p90, s.worst, 1000.0 / s.p90, 100 * rendering / frames, cpu_ms);
 }
 
+/// Opening a scene to its first image on screen (--launch), as when the preview starts: the window,
+/// the model and the app are made, the scene opened, and frames run (paced as the app paces them)
+/// until one has drawn the first complete pass of the render (the coarse preview, or the direct
+/// light that classic shows while its photons are shot), then until the first full-resolution
+/// pass. Classic and progressive alternate run by run, so that both see the same machine load.
+void launch(const std::string& scene, int runs) {
+    std::vector<double> first[2], full[2];
+    const char* names[2] = {"classic", "progressive"};
+    for (int i = 0; i < 2 * runs; ++i) {
+        const int k = i % 2;
+        const auto t0 = clock_type::now();
+        HeadlessWindow window{1280, 720};
+        ModelConfig config;
+        config.option_tokens = {"--integrator", names[k]};
+        ViewModel model{config};
+        ViewApp app{model};
+        model.open(scene);
+        double first_ms = -1.0;
+        for (;;) {
+            const auto frame_start = clock_type::now();
+            window.frame(app, HeadlessInput{});
+            const PreviewDriver& driver = model.driver();
+            const SessionProgress& p = driver.progress();
+            const std::size_t per_pass = p.passes ? p.tiles_total / p.passes : 0;
+            if (first_ms < 0.0 && driver.has_job() && per_pass > 0 && p.tiles_done >= per_pass) first_ms = ms_since(t0);
+            if (driver.has_job() && driver.first_full_pass_done()) break;
+            if (ms_since(t0) > 120e3) break;
+            wait_for_next_frame(model, frame_start, FramePacing{}, [] {});
+        }
+        first[k].push_back(first_ms);
+        full[k].push_back(ms_since(t0));
+    }
+    std::printf("\nopening %s to its first image, 1280 x 720 window (%d runs each, alternating)\n", scene.c_str(), runs);
+    std::printf("  %-46s %8s %8s %8s\n", "", "median", "p90", "max");
+    for (int k = 0; k < 2; ++k) {
+        row((std::string(names[k]) + ": to the first image on screen").c_str(), summarise(first[k]), "ms", "");
+        row((std::string(names[k]) + ": to the first full-resolution pass").c_str(), summarise(full[k]), "ms", "");
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::string scene = CAUSTICA_SOURCE_DIR "/scenes/default.lua";
     int changes = 30, frames = 300, width = 1280, height = 720;
-    bool ui_only = false, fixed_only = false, compare = false, profile = false, variants = false, drag = false;
+    bool ui_only = false, fixed_only = false, compare = false, profile = false, variants = false, drag = false,
+         launching = false;
     std::string fragment_file;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--ui-latency")) ui_only = true;
@@ -464,6 +506,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--draw-profile")) profile = true;
         else if (!std::strcmp(argv[i], "--draw-variants")) variants = true;
         else if (!std::strcmp(argv[i], "--drag")) drag = true;
+        else if (!std::strcmp(argv[i], "--launch")) launching = true;
         else if (!std::strcmp(argv[i], "--fragment") && i + 1 < argc) fragment_file = argv[++i];
         else if (!std::strcmp(argv[i], "--changes") && i + 1 < argc) changes = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--size") && i + 1 < argc && std::sscanf(argv[i + 1], "%dx%d", &width, &height) == 2) ++i;
@@ -474,6 +517,10 @@ int main(int argc, char** argv) {
     const RenderJob& job = script.renders.at(0);
     std::printf("bench_preview: %s, %u hardware threads, %lld photons\n", scene.c_str(), std::thread::hardware_concurrency(),
                 job.options.caustic_num_photons);
+    if (launching) {
+        launch(scene, changes);
+        return 0;
+    }
     if (drag) {
         continuous_drag(scene, frames);
         return 0;
