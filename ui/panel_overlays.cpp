@@ -39,10 +39,11 @@ glm::vec4 window_box() {
     return {at.x, at.y, at.x + size.x, at.y + size.y};
 }
 
-/// The status line at the image area's top-left, its lines wrapped to the area's width so that
-/// it never runs under the sidebar.
+/// The status line at the image area's top-left, its lines wrapped to the area's width less the
+/// sidebar's toggle button at its top-right, so that it never runs under either.
 void status_line(const ViewModel& model, PanelState& state, float scale, glm::vec2 area) {
-    const float width = std::max(area.x - 2.0f * overlay_margin, 120.0f);
+    const float toggle = ImGui::CalcTextSize("hide panels >> (Tab)").x + 2.0f * ImGui::GetStyle().FramePadding.x + 8.0f;
+    const float width = std::max(area.x - 2.0f * overlay_margin - toggle, 120.0f);
     ImGui::SetNextWindowPos(ImVec2(overlay_margin, overlay_margin));
     ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(width, area.y - 2.0f * overlay_margin));
     ImGui::SetNextWindowBgAlpha(0.55f);
