@@ -77,6 +77,7 @@ TEST(SnapshotKnobs, ADragIsFineShiftIsCoarseAndTheKnobStaysAsItsDifferenceAppear
     EXPECT_LE(fine, 37);
     EXPECT_TRUE(differs(*preview.model, "neighbours N"));
     EXPECT_EQ(knob_rect(preview, "neighbours N").min, rect.min);
+    write_doc_image(preview.snapshot(), "knobs_fine_drag.png");
 
     // The same drag with Shift goes much further.
     EXPECT_TRUE(drag_knob(preview, "neighbours N", 29, true));

@@ -54,6 +54,8 @@ TEST(SnapshotPanels, TheHoverReadoutWaitsUntilTheMouseRests) {
     EXPECT_GE(waited, 0.9 * readout_rest_seconds);
     EXPECT_EQ(*inspect.hover, input.mouse);
     EXPECT_TRUE(inspect.pixel.valid);
+    p.window.frame(*p.app, input);  // the readout drawn
+    write_doc_image(p.window.pixels(), "readout_at_rest.png");
 }
 
 /// The preview in a window of 800 x 500 pixels, the size at which the status line ran under the sidebar.
