@@ -186,7 +186,17 @@ int render_job(RenderSession& session, const AnimationFrame& frame, const std::s
                              passes, printable_text(saving->path).c_str());
         return exit_interrupted;
     }
-    const int code = write_frame(frame, scene_path, label, session.image(), session.stats(), nullptr, &session.layers());
+    int code = exit_ok;
+    try {
+        code = write_frame(frame, scene_path, label, session.image(), session.stats(), nullptr, &session.layers());
+    } catch (...) {
+        // The image could not be written: the accumulation is kept if it can be, for the next run.
+        if (saving) try {
+                save_final_state(session, *saving);
+            } catch (...) {
+            }
+        throw;
+    }
     if (saving) save_final_state(session, *saving);  // also when Ctrl-C stopped the image's write
     return code;
 }

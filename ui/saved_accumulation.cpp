@@ -3,6 +3,7 @@
 #include "core/render/fingerprints.h"
 
 #include <memory>
+#include <stdexcept>
 #include <system_error>
 #include <utility>
 
@@ -37,8 +38,12 @@ AccumulationKey key_without_scene(const RenderJob& job) {
     return key;
 }
 
-void write_saved_accumulation(const std::string& state_path, AccumulationState state, const RenderJob& rendered,
-                              bool inside_current_folder) {
+void write_saved_accumulation(const std::string& state_path, AccumulationState state, const RenderJob& shown,
+                              const RenderJob& rendered, bool inside_current_folder) {
+    AccumulationKey made = state.key;
+    made.scene = 0;
+    if (const std::string why = accumulation_mismatch(made, key_without_scene(shown)); !why.empty())
+        throw std::runtime_error("the accumulation at hand is another job's: " + why);
     state.key = accumulation_key(rendered);
     write_accumulation_state(state_path, state, inside_current_folder);
 }
@@ -93,6 +98,11 @@ std::optional<AccumulationState> SavedAccumulations::find(const std::string& sta
     if (!state) {
         note = ModelNote{not_continued(seen_->problem), true};
         seen_->problem_said = true;
+        return std::nullopt;
+    }
+    // The file may have been written again within its timestamp's tick: what was read decides.
+    if (const std::string again = accumulation_mismatch(state->key, key); !again.empty()) {
+        if (say_mismatch) note = ModelNote{not_continued(state_path + ": " + again), true};
         return std::nullopt;
     }
     // The session checks it against the job it renders, the preview's: the same scene.

@@ -28,11 +28,12 @@ RenderJob job_as_rendered(RenderJob job, int resolution_option);
 /// accumulation_key without its costly part, the scene's content (hashed vertex by vertex): 0.
 AccumulationKey key_without_scene(const RenderJob& job);
 
-/// Writes `state`, an accumulation of the preview's job, to `state_path` (atomically, as
+/// Writes `state`, an accumulation of the preview's job `shown`, to `state_path` (atomically, as
 /// write_accumulation_state), keyed by `rendered` (job_as_rendered). Throws std::runtime_error
-/// "cannot write 'PATH': reason".
-void write_saved_accumulation(const std::string& state_path, AccumulationState state, const RenderJob& rendered,
-                              bool inside_current_folder);
+/// "cannot write 'PATH': reason", or when `state` was made for another job than `shown` (its
+/// camera, size or options).
+void write_saved_accumulation(const std::string& state_path, AccumulationState state, const RenderJob& shown,
+                              const RenderJob& rendered, bool inside_current_folder);
 
 /// Finds the saved accumulation that continues a job, reading a file once until it changes.
 class SavedAccumulations {

@@ -411,6 +411,7 @@ private:
     struct StateToWrite {
         std::string path, shown;  // as written, and absolute for the person
         bool inside_current_folder = false;
+        RenderJob shown_job;  // the preview's job when asked: the state written must be its
         RenderJob rendered;
         std::uint64_t restarts = 0;  // the driver's, when asked: another job started since ends it
     };

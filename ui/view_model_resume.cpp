@@ -38,7 +38,7 @@ std::string ViewModel::save_accumulation(const std::string& image_path, bool ins
     if (driver_.session().accumulation_state(state)) {  // stopped: paused, or ended by a rule
         const int passes = state.next_pass;
         try {
-            write_saved_accumulation(state_path, std::move(state), rendered, inside_current_folder);
+            write_saved_accumulation(state_path, std::move(state), driver_.job(), rendered, inside_current_folder);
         } catch (const std::exception& e) {
             return "\nits accumulation is not saved: " + printable_text(e.what());
         }
@@ -48,7 +48,7 @@ std::string ViewModel::save_accumulation(const std::string& image_path, bool ins
     if (!driver_.busy()) return "";
     // Refining: the loop copies its state at the end of the pass under way, without stopping.
     driver_.session().request_accumulation_snapshot();
-    state_to_write_ = StateToWrite{state_path, shown, inside_current_folder, rendered, driver_.restarts()};
+    state_to_write_ = StateToWrite{state_path, shown, inside_current_folder, driver_.job(), rendered, driver_.restarts()};
     return "\nits accumulation goes to " + shown + " at the end of the pass under way";
 }
 
@@ -62,17 +62,17 @@ void ViewModel::follow_saved_accumulations() {
     if (!state_to_write_) return;
     const std::string& shown = state_to_write_->shown;
     AccumulationState state;
-    bool taken = driver_.session().take_accumulation_snapshot(state);
-    if (!taken && driver_.restarts() != state_to_write_->restarts) {  // that accumulation is no longer rendered
+    if (driver_.restarts() != state_to_write_->restarts) {  // that accumulation is no longer rendered
         note_ = ModelNote{shown + " not written: another render started before the pass under way ended", true};
         state_to_write_.reset();
         return;
     }
+    bool taken = driver_.session().take_accumulation_snapshot(state);
     if (!taken && !driver_.busy()) taken = driver_.session().accumulation_state(state);  // paused before the pass ended
     if (!taken) return;
     const int passes = state.next_pass;
     try {
-        write_saved_accumulation(state_to_write_->path, std::move(state), state_to_write_->rendered,
+        write_saved_accumulation(state_to_write_->path, std::move(state), state_to_write_->shown_job, state_to_write_->rendered,
                                  state_to_write_->inside_current_folder);
         note_ = ModelNote{"wrote the accumulation (" + std::to_string(passes) + " passes) in " + shown, false};
     } catch (const std::exception& e) {

@@ -238,7 +238,9 @@ bool ProgressiveRender::restore_state(AccumulationState&& s) {
     state_.scale2 = s.scale2;
     state_.first_radius = s.first_radius;
     state_.radius = s.radius;
-    state_.typical_radius = s.typical_radius;
+    // The grid's cell size is measured again (a function of the scene and camera alone, so the same
+    // bits), never taken from a file that may not be ours.
+    state_.typical_radius = 0.0;
     state_.seed = s.seed;
     state_.photons_emitted = s.photons_emitted;
     state_.seconds = s.seconds;
@@ -247,6 +249,13 @@ bool ProgressiveRender::restore_state(AccumulationState&& s) {
     state_.adapted_sums = std::move(s.adapted_sums);
     restored_ = true;
     return true;
+}
+
+void ProgressiveRender::request_snapshot() {
+    // A snapshot made for an earlier request nobody took is stale: the next one is made afresh.
+    std::lock_guard lock(snapshot_mutex_);
+    snapshot_.reset();
+    snapshot_wanted_ = true;
 }
 
 bool ProgressiveRender::take_snapshot(AccumulationState& out) {

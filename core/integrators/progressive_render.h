@@ -38,7 +38,7 @@ public:
     bool save_state(AccumulationState& out) const override;
     /// Takes up a saved accumulation: the next run continues it, its image shown first.
     bool restore_state(AccumulationState&& state) override;
-    void request_snapshot() override { snapshot_wanted_ = true; }
+    void request_snapshot() override;
     bool take_snapshot(AccumulationState& out) override;
 
 private:

@@ -166,7 +166,11 @@ PhotonGrid::Gather PhotonGrid::gather(const glm::vec3& p, const glm::vec3& n, fl
     std::uint64_t inline_buckets[max_inline];
     std::vector<std::uint64_t> many;
     std::uint64_t* buckets = inline_buckets;
-    const std::int64_t cells = (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+    // In floating point: the coordinates are clamped, not small, so the product can pass 2^63.
+    const double cells_real = static_cast<double>(hi[0] - lo[0] + 1) * static_cast<double>(hi[1] - lo[1] + 1) *
+                              static_cast<double>(hi[2] - lo[2] + 1);
+    const std::int64_t cells = cells_real > static_cast<double>(mask_ + 1) ? static_cast<std::int64_t>(mask_ + 2)
+                                                                          : static_cast<std::int64_t>(cells_real);
     if (cells > max_inline) {
         many.resize(static_cast<std::size_t>(std::min<std::int64_t>(cells, static_cast<std::int64_t>(mask_ + 1))));
         buckets = many.data();

@@ -1,11 +1,13 @@
 #include "core/render/fingerprints.h"
 
+#include "core/io/png_io.h"
 #include "core/render/random.h"
 #include "core/scene/options.h"
 
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 
 namespace caustica {
 namespace {
@@ -46,6 +48,12 @@ std::uint64_t hash_geometry(const RenderJob& job, bool by_content) {
     for (const TextureDesc& t : scene.textures) {
         h = hash_combine(h, std::hash<std::string>{}(t.source));
         h = hash_combine(h, std::hash<std::string>{}(t.remap) + (t.procedural ? 1 : 0));
+        if (by_content && t.image) {  // the decoded pixels: a file edited under the same name differs
+            const Png8& png = *t.image;
+            h = hash_combine(h, (std::uint64_t(png.width) << 40) ^ (std::uint64_t(png.height) << 8) ^ png.channels);
+            h = hash_combine(h, std::hash<std::string_view>{}(std::string_view(
+                                    reinterpret_cast<const char*>(png.data.data()), png.data.size())));
+        }
     }
     for (const auto& mesh : scene.meshes) {
         if (!by_content || !mesh) {

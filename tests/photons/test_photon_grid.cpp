@@ -113,6 +113,19 @@ TEST(PhotonGrid, EdgeCases) {
     EXPECT_EQ(grid.gather(glm::vec3(1e7f, -1e7f, 3e6f), glm::vec3(0, 1, 0), 1.0f).count, 1u);
 }
 
+TEST(PhotonGrid, CellsFarSmallerThanTheRadiusGatherEverythingWithoutOverflow) {
+    // Cells of 1e-9 and a radius of 1: some 2e9 cells an axis, whose product passes 2^63; the
+    // gather scans every bucket instead, and finds what a brute force finds.
+    std::vector<Photon> photons;
+    for (int i = 0; i < 200; ++i)
+        photons.push_back({glm::vec3(0.01f * i - 1.0f, 0.003f * i, -0.5f), glm::vec3(1.0f), glm::vec3(0, -1, 0)});
+    PhotonGrid grid;
+    grid.build(photons, 1e-9f);
+    for (const glm::vec3 p : {glm::vec3(0.0f), glm::vec3(-1.0f, 0.2f, -0.5f)})
+        expect_same(grid.gather(p, glm::vec3(0, 1, 0), 1.0f), brute_force(photons, p, glm::vec3(0, 1, 0), 1.0f),
+                    "tiny cells");
+}
+
 TEST(PhotonGrid, TheSameBitsEveryBuild) {
     const std::vector<Photon> photons = clustered_photons(50000, 3);
     PhotonGrid a, b;

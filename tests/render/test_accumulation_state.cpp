@@ -6,6 +6,7 @@
 #include "core/render/accumulation_state.h"
 
 #include "core/integrators/progressive_accumulator.h"
+#include "core/io/png_io.h"
 #include "core/render/render_session.h"
 
 #include "tests/scene_test_helpers.h"
@@ -203,6 +204,25 @@ TEST(AccumulationState, AJobIsRefusedByThePartThatDiffers) {
     materials->materials.at(0).kd.x += 0.1;
     scene.scene = materials;
     EXPECT_NE(mismatch(scene).find("another scene"), std::string::npos);
+    // A texture file edited under the same name: its decoded pixels are part of the scene.
+    auto textured = [&](unsigned char texel) {
+        auto desc = std::make_shared<SceneDesc>(*job.scene);
+        auto png = std::make_shared<Png8>();
+        png->width = png->height = 2;
+        png->channels = 3;
+        png->data.assign(12, 100);
+        png->data[5] = texel;
+        TextureDesc texture;
+        texture.source = "/scenes/wood.png";
+        texture.image = png;
+        desc->textures.push_back(texture);
+        RenderJob j = job;
+        j.scene = desc;
+        return j;
+    };
+    EXPECT_NE(accumulation_mismatch(accumulation_key(textured(1)), accumulation_key(textured(2))).find("another scene"),
+              std::string::npos);
+    EXPECT_EQ(accumulation_mismatch(accumulation_key(textured(1)), accumulation_key(textured(1))), "");
     RenderJob size = job;
     size.width = 41;
     EXPECT_EQ(mismatch(size), "it was saved for a 40 x 40 image, this render is 41 x 40");
@@ -233,6 +253,14 @@ TEST(AccumulationState, ContinuingASavedAccumulationGivesTheBitsOfOneRun) {
     // Asking for no more passes than it holds shows the saved image, as it was.
     RenderSession third;
     EXPECT_TRUE(same_bits(render_to_end(third, focus_job(6), &read), half));
+    // The photon grid's cell size is measured again, not read: a state whose header holds a tiny
+    // one (the checksum made to match) continues to the same bits, in bounded time.
+    AccumulationState tiny = read;
+    tiny.typical_radius = 1e-9;
+    const AccumulationState tiny_read =
+        decode_accumulation_state(encode_accumulation_state(tiny), "state", tiny.key.width, tiny.key.height);
+    RenderSession fourth;
+    EXPECT_TRUE(same_bits(render_to_end(fourth, focus_job(12), &tiny_read), whole));
 }
 
 TEST(AccumulationState, ASessionRefusesAnotherJobsAccumulation) {
