@@ -174,11 +174,14 @@ int plan_render(const std::vector<std::string>& args, RenderSession& session, bo
             throw parsed.output.empty() ? InputError(frame.job.where, "gr.render: " + why) : InputError(why);
     }
     if (parsed.resume)
-        for (const AnimationFrame& frame : out.plan.frames)
+        for (const AnimationFrame& frame : out.plan.frames) {
+            if (frame.job.options.layers)
+                throw InputError("--resume: a saved accumulation holds no layers; render --layers without --resume");
             if (!frame.job.options.accumulates())
                 throw InputError("--resume: " + frame.path +
                                  " does not accumulate passes; it continues --integrator progressive with --passes, "
                                  "--time or --target-error");
+        }
     if (writes && !jobs[0].options.silent)
         for (const std::string& w : out.plan.warnings) std::fprintf(stderr, "warning: %s\n", printable_text(w).c_str());
     // Frames are numbered in the images' metadata when there is more than one to number.

@@ -14,13 +14,22 @@ constexpr std::uint32_t photons = bit(KnobField::photons), unit = bit(KnobField:
                         fudge = bit(KnobField::fudge), map_mode = bit(KnobField::map_mode),
                         granularity = bit(KnobField::granularity), only = bit(KnobField::only),
                         dots = bit(KnobField::dots), integrator = bit(KnobField::integrator), gi = bit(KnobField::gi),
-                        gi_photons = bit(KnobField::gi_photons), gi_neighbours = bit(KnobField::gi_neighbours);
+                        gi_photons = bit(KnobField::gi_photons), gi_neighbours = bit(KnobField::gi_neighbours), layer = bit(KnobField::layer);
 
 const char* map_mode_name(ProjectionMapMode m) {
     return m == ProjectionMapMode::on ? "on" : m == ProjectionMapMode::off ? "off" : "auto";
 }
 
 }  // namespace
+
+const char* shown_layer_name(ShadingLayer l) { return l == ShadingLayer::beauty ? "image" : layer_name(l); }
+
+ShadingLayer next_shown_layer(ShadingLayer layer) {
+    constexpr std::size_t count = std::size(shown_layers);
+    for (std::size_t i = 0; i < count; ++i)
+        if (shown_layers[i] == layer) return shown_layers[(i + 1) % count];
+    return ShadingLayer::beauty;
+}
 
 std::string exact_number(double value) {
     char text[64];
@@ -43,6 +52,7 @@ const char* knob_label(KnobField field) {
     case KnobField::gi: return "global illumination";
     case KnobField::gi_photons: return "GI photons";
     case KnobField::gi_neighbours: return "GI neighbours";
+    case KnobField::layer: return "show";
     }
     return "?";
 }
@@ -62,6 +72,7 @@ std::string knob_value_text(const CausticKnobs& k, KnobField field) {
     case KnobField::gi: return k.gi ? "on" : "off";
     case KnobField::gi_photons: return std::to_string(k.gi_photons);
     case KnobField::gi_neighbours: return std::to_string(k.gi_neighbours);
+    case KnobField::layer: return shown_layer_name(k.layer);
     }
     return {};
 }
@@ -90,6 +101,7 @@ std::vector<std::string> knob_tokens(const CausticKnobs& k, const CausticKnobs& 
     case KnobField::gi: return k.gi ? std::vector<std::string>{"--gi"} : std::vector<std::string>{};
     case KnobField::gi_photons: return {"--gi-num-photons", std::to_string(k.gi_photons)};
     case KnobField::gi_neighbours: return {"--gi-num-neighbours", std::to_string(k.gi_neighbours)};
+    case KnobField::layer: return {"--show-layer", shown_layer_name(k.layer)};
     }
     return {};
 }
@@ -109,6 +121,7 @@ CausticKnobs CausticKnobs::from(const Options& o) {
     k.gi = o.gi;
     k.gi_photons = o.gi_num_photons;
     k.gi_neighbours = o.gi_num_neighbours;
+    k.layer = o.show_layer;
     return k;
 }
 
@@ -126,6 +139,7 @@ void CausticKnobs::apply(Options& o) const {
     o.gi = gi;
     o.gi_num_photons = gi_photons;
     o.gi_num_neighbours = gi_neighbours;
+    o.show_layer = layer;
 }
 
 void KnobOverrides::record(const CausticKnobs& a, const CausticKnobs& b) {
@@ -142,6 +156,7 @@ void KnobOverrides::record(const CausticKnobs& a, const CausticKnobs& b) {
     if (a.gi != b.gi) mask_ |= gi;
     if (a.gi_photons != b.gi_photons) mask_ |= gi_photons;
     if (a.gi_neighbours != b.gi_neighbours) mask_ |= gi_neighbours;
+    if (a.layer != b.layer) mask_ |= layer;
 }
 
 CausticKnobs KnobOverrides::merge(const CausticKnobs& script, const CausticKnobs& person) const {
@@ -159,6 +174,7 @@ CausticKnobs KnobOverrides::merge(const CausticKnobs& script, const CausticKnobs
     if (mask_ & gi) k.gi = person.gi;
     if (mask_ & gi_photons) k.gi_photons = person.gi_photons;
     if (mask_ & gi_neighbours) k.gi_neighbours = person.gi_neighbours;
+    if (mask_ & layer) k.layer = person.layer;
     return k;
 }
 

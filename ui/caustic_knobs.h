@@ -25,6 +25,7 @@ struct CausticKnobs {
     bool gi = false;                 ///< gi (classic global illumination)
     long long gi_photons = 1'000'000;  ///< gi_num_photons
     int gi_neighbours = 100;         ///< gi_num_neighbours
+    ShadingLayer layer = ShadingLayer::beauty;  ///< show_layer: the layer of the light shown
 
     /// The knobs as a job's options set them.
     static CausticKnobs from(const Options& options);
@@ -49,14 +50,23 @@ enum class KnobField : std::uint32_t {
     gi = 1u << 10,
     gi_photons = 1u << 11,
     gi_neighbours = 1u << 12,
+    layer = 1u << 13,
 };
 
 /// Every knob field, in the panel's order.
 inline constexpr KnobField all_knob_fields[] = {
     KnobField::integrator, KnobField::photons,  KnobField::unit, KnobField::neighbours,  KnobField::max_dist,
     KnobField::fudge,      KnobField::map_mode, KnobField::granularity, KnobField::only, KnobField::dots,
-    KnobField::gi,         KnobField::gi_photons, KnobField::gi_neighbours,
+    KnobField::gi,         KnobField::gi_photons, KnobField::gi_neighbours, KnobField::layer,
 };
+
+/// The layers the "show" menu offers, in its order, and their --show-layer names ("image" for all).
+inline constexpr ShadingLayer shown_layers[] = {ShadingLayer::beauty,  ShadingLayer::direct,     ShadingLayer::indirect,
+                                                ShadingLayer::caustic, ShadingLayer::background, ShadingLayer::albedo,
+                                                ShadingLayer::normal};
+const char* shown_layer_name(ShadingLayer layer);
+/// The layer after `layer` in the menu's order (after the last: the image).
+ShadingLayer next_shown_layer(ShadingLayer layer);
 
 /// The panel's name of a knob ("photons").
 const char* knob_label(KnobField field);

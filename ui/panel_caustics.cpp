@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <string>
 #include <type_traits>
 
 namespace caustica::ui {
@@ -276,6 +277,13 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
     ImGui::SameLine();
     ImGui::Checkbox("photon dots", &k.photon_dots);
     hint("show the stored photons as dots");
+    if (ImGui::BeginCombo("show", shown_layer_name(k.layer))) {
+        for (ShadingLayer layer : shown_layers)
+            if (ImGui::Selectable(shown_layer_name(layer), layer == k.layer)) k.layer = layer;
+        ImGui::EndCombo();
+    }
+    hint("one layer of the light as the image (--show-layer; docs/OUTPUT.md, Layers): direct, indirect, caustic "
+         "and background add up to the image; albedo and normal are the first surface's. Alt+L: the next one");
     if (integrator_entry(k.integrator).gi_map) {
         ImGui::Checkbox("global illumination", &k.gi);
         hint("classic --gi: a GI photon map replaces the ambient term; re-shoots photons");

@@ -8,7 +8,7 @@ namespace caustica::ui {
 namespace {
 
 constexpr int ctrl = key_mods::ctrl, alt = key_mods::alt, shift = key_mods::shift;
-constexpr int key_i = 73;  // GLFW numbers: ASCII for letters
+constexpr int key_i = 73, key_l = 76;  // GLFW numbers: ASCII for letters
 
 }  // namespace
 
@@ -25,6 +25,7 @@ const std::vector<ShortcutBinding>& shortcut_bindings() {
         {S::cells, keys::c, alt},
         {S::photons_only, keys::p, alt},
         {S::photon_dots, keys::d, alt},
+        {S::next_layer, key_l, alt},
         {S::exposure_up, keys::e, alt},
         {S::exposure_down, keys::e, alt | shift},
         {S::exposure_reset, keys::e, ctrl},
@@ -80,6 +81,7 @@ std::vector<std::pair<std::string, std::string>> shortcut_help_rows() {
         {"Home, Ctrl+R", "back to the script's camera"},
         {"Alt+O / Alt+C", "projection-map outline / occupied cells"},
         {"Alt+P / Alt+D", "photons-only view / photon dots"},
+        {"Alt+L", "show the next layer: image, direct, indirect, caustic, background, albedo, normal"},
         {"Space", "pause / resume the refinement"},
         {"Alt+E / Alt+Shift+E / Ctrl+E", "exposure up / down one stop / back to 0"},
         {"Alt+G", "sRGB display"},

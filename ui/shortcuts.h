@@ -17,7 +17,7 @@ namespace caustica::ui {
 enum class Shortcut {
     help, close_help, script_camera, reload, pause, outline, cells, photons_only, photon_dots, exposure_up,
     exposure_down, exposure_reset, srgb, orbit_left, orbit_right, orbit_up, orbit_down, zoom_in, zoom_out,
-    toggle_panels, fit_image, image_one_to_one, snapshot, compare, readout, save, quit, undo, redo,
+    toggle_panels, fit_image, image_one_to_one, snapshot, compare, readout, save, quit, undo, redo, next_layer,
 };
 
 /// One key (with exact modifiers) bound to an action.

@@ -140,6 +140,7 @@ void ViewApp::handle_keys() {
         case Shortcut::outline: overlay.enabled = !overlay.enabled; break;
         case Shortcut::cells: overlay.cells = !overlay.cells; break;
         case Shortcut::photons_only: knobs.photons_only = !knobs.photons_only; break;
+        case Shortcut::next_layer: knobs.layer = next_shown_layer(knobs.layer); break;
         case Shortcut::photon_dots: knobs.photon_dots = !knobs.photon_dots; break;
         case Shortcut::exposure_up: exposure = std::min(exposure + 1.0f, 6.0f); break;
         case Shortcut::exposure_down: exposure = std::max(exposure - 1.0f, -6.0f); break;

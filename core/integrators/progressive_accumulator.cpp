@@ -108,7 +108,7 @@ glm::vec3 ProgressiveAccumulator::add(std::size_t index, const PassSample& sampl
     for (int c = 0; c < 3; ++c) {
         // Exact split of the float (times a power of two, in double): the whole 2^-8 units, and
         // the remainder rounded to 2^-40.
-        const double scaled = clamp_value(static_cast<double>(sample.colour[c]), 0.0, colour_limit) * colour_high_unit;
+        const double scaled = clamp_value(static_cast<double>(sample.colour[c]), -colour_limit, colour_limit) * colour_high_unit;
         const double high = std::floor(scaled);
         s[colour_high + c] += static_cast<std::int64_t>(high);
         s[colour_low + c] += std::llround((scaled - high) * colour_low_unit);

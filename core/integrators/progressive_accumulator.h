@@ -50,7 +50,8 @@ inline constexpr int max_accumulated_passes = 1 << 23;
 /// The per-pixel sums of a progressive accumulation, in integers: each pass's sample is rounded
 /// to fixed point once and added exactly, so the sums do not depend on the order the passes are
 /// added in. Ranks that ran different passes add their sums (Cluster::reduce_sum) and get the
-/// bits one process gets. Colour is held to 2^-40 (two int64 per channel, up to 2^31 per sample);
+/// bits one process gets. Colour is held to 2^-40 (two int64 per channel, |sample| up to 2^31: signed, for
+/// --show-layer normal);
 /// the error statistics to 2^-16 with exact squares (two int64 each), so a pixel that does not
 /// change between passes has a variance of exactly 0; each replicate group's value sum and count.
 /// Up to max_accumulated_passes passes. 200 bytes per pixel.

@@ -86,7 +86,7 @@ void publish_means(RenderHost& host, const ProgressiveAccumulator& accumulator, 
 
 void render_accumulation_tile(const ProgressiveIntegrator& integrator, const TileContext& context, const Tile& tile,
                               int pass, const float* radius_factors, ProgressiveAccumulator& accumulator, Image& out,
-                              RayCounters& counters) {
+                              RayCounters& counters, const std::vector<AccumulatedLayer>* layers) {
     // The probes are read from zero around each ray (then added back), so that what a pixel gets
     // does not depend on what else the thread's counters summed: the same bits for any thread count.
     const double photon_before = counters.photon_value, inner_before = counters.photon_value_inner;
@@ -117,11 +117,26 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
                 // One stream per (pixel, pass): the same image for any thread count.
                 streams[i] = RandomStream(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
             }
+            RandomStream initial[8] = {streams[0], streams[1], streams[2], streams[3],
+                                       streams[4], streams[5], streams[6], streams[7]};
             glm::vec3 colour[8];
             double photon[8], inner[8];
             integrator.trace_samples8(rays, valid, streams, radius_factors ? scales : nullptr, colour, photon, inner,
                                       counters);
             cut_short = is_cancelled(context.cancel);
+            if (cut_short) break;
+            // Each layer's samples, all traced before any is added: a cancel adds nothing of the packet.
+            glm::vec3 layer_colour[std::size(written_layers)][8];
+            const std::size_t layer_count = layers ? std::min(layers->size(), std::size(written_layers)) : 0;
+            for (std::size_t l = 0; l < layer_count; ++l) {
+                RandomStream same[8] = {initial[0], initial[1], initial[2], initial[3],
+                                        initial[4], initial[5], initial[6], initial[7]};
+                double unused[8], unused_inner[8];
+                RayCounters layer_counters;  // the layers' rays are not the render's
+                (*layers)[l].integrator->trace_samples8(rays, valid, same, radius_factors ? scales : nullptr,
+                                                        layer_colour[l], unused, unused_inner, layer_counters);
+            }
+            cut_short = layer_count > 0 && is_cancelled(context.cancel);
             if (cut_short) break;
             for (int i = 0; i < 8 && valid[i]; ++i) {
                 PassSample sample;
@@ -133,7 +148,9 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
                 inner_total += sample.photon_inner;
                 ++counters.samples;
                 check_pixel(sample.colour, x + i, y);
-                out.at(x + i, y) = accumulator.add(static_cast<std::size_t>(y) * out.width + x + i, sample);
+                const std::size_t pixel = static_cast<std::size_t>(y) * out.width + x + i;
+                out.at(x + i, y) = accumulator.add(pixel, sample);
+                for (std::size_t l = 0; l < layer_count; ++l) (*(*layers)[l].sums)[pixel] += glm::dvec3(layer_colour[l][i]);
             }
         }
     }
@@ -193,6 +210,7 @@ void ProgressiveRender::adapt_radii(Cluster* cluster, const std::atomic<bool>& c
 
 void ProgressiveRender::invalidate() {
     state_.valid = false;
+    layer_sums_.clear();
     snapshot_wanted_ = false;
     std::lock_guard lock(snapshot_mutex_);
     snapshot_.reset();
@@ -251,6 +269,20 @@ bool ProgressiveRender::restore_state(AccumulationState&& s) {
     return true;
 }
 
+std::vector<LayerImage> ProgressiveRender::layer_images() const {
+    std::vector<LayerImage> out;
+    if (!state_.valid || layer_sums_.size() != std::size(written_layers)) return out;
+    const int width = accumulator_.width(), height = accumulator_.height();
+    for (std::size_t l = 0; l < layer_sums_.size(); ++l) {
+        LayerImage layer{written_layers[l], Image(width, height)};
+        for (std::size_t i = 0; i < layer.image.pixels.size(); ++i)
+            if (const std::uint32_t n = accumulator_.samples(i); n > 0)
+                layer.image.pixels[i] = glm::vec3(layer_sums_[l][i] / static_cast<double>(n));
+        out.push_back(std::move(layer));
+    }
+    return out;
+}
+
 void ProgressiveRender::request_snapshot() {
     // A snapshot made for an earlier request nobody took is stale: the next one is made afresh.
     std::lock_guard lock(snapshot_mutex_);
@@ -291,8 +323,15 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     const int ranks = shared ? cluster->size() : 1, rank = shared ? cluster->rank() : 0;
     State& acc = state_;
     const bool resumed = acc.valid && !shared;
+    // --layers: sums from the accumulation's first pass, or none (a continued accumulation that had
+    // none, or a pass without them, has no layers to give).
+    const bool with_layers = options.layers && !shared && (!resumed || !layer_sums_.empty());
+    if (!with_layers) layer_sums_.clear();
     if (!resumed) {
         accumulator_.reset(job.width, job.height);
+        if (with_layers)
+            layer_sums_.assign(std::size(written_layers),
+                               std::vector<glm::dvec3>(static_cast<std::size_t>(job.width) * job.height));
         acc = State{};
         acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
         acc.seed = context.seed;
@@ -433,6 +472,18 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             }
             const float* const factors = acc.radius_factors.empty() ? nullptr : acc.radius_factors.data();
             const ProgressiveIntegrator pass_integrator(pass_shading.setup, pass_shading.params);
+            // --layers: one integrator per layer, on the pass's photons and radii.
+            std::vector<ShadingSetup> layer_setups(layer_sums_.size(), pass_shading.setup);
+            std::vector<ProgressiveIntegrator> layer_integrators;
+            std::vector<AccumulatedLayer> layer_targets;
+            layer_integrators.reserve(layer_sums_.size());
+            for (std::size_t l = 0; l < layer_sums_.size(); ++l) {
+                layer_setups[l].layer = written_layers[l];
+                layer_integrators.emplace_back(layer_setups[l], pass_shading.params);
+            }
+            for (std::size_t l = 0; l < layer_sums_.size(); ++l)
+                layer_targets.push_back({&layer_integrators[l], &layer_sums_[l]});
+            const std::vector<AccumulatedLayer>* const layer_list = layer_targets.empty() ? nullptr : &layer_targets;
             TileContext pass_context = context;
             pass_context.integrator = &pass_integrator;
             pass_context.seed = acc.seed;
@@ -445,7 +496,8 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             if (!(shared && cancel))
                 host.run_tiles("progressive passes", p, [&](std::size_t, const Tile& tile, RayCounters& c) {
                     if (const Tile part = region_part(tile, region); !tile_empty(part))
-                        render_accumulation_tile(pass_integrator, pass_context, part, p, factors, accumulator_, image, c);
+                        render_accumulation_tile(pass_integrator, pass_context, part, p, factors, accumulator_, image, c,
+                                                 layer_list);
                 });
         }
         double round_seconds = now_seconds() - t0;
@@ -525,6 +577,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         a.bias = acc.error.bias;
         a.bytes = accumulator_.memory_bytes() + acc.radius_factors.capacity() * sizeof(float) +
                   acc.adapted_sums.capacity() * sizeof(std::int64_t);
+        for (const std::vector<glm::dvec3>& sums : layer_sums_) a.bytes += sums.capacity() * sizeof(glm::dvec3);
         a.stopped_by = stopped_by;
     });
 }

@@ -10,6 +10,8 @@
 #include "core/render/render_host.h"
 #include "core/render/tile_renderer.h"
 
+#include <glm/vec3.hpp>
+
 #include <atomic>
 #include <cstdint>
 #include <mutex>
@@ -40,6 +42,8 @@ public:
     bool restore_state(AccumulationState&& state) override;
     void request_snapshot() override;
     bool take_snapshot(AccumulationState& out) override;
+    /// --layers: each layer's mean over the passes, when every pass of the accumulation rendered them.
+    std::vector<LayerImage> layer_images() const override;
 
 private:
     // Kept across renders, so that resume() continues the accumulation.
@@ -79,15 +83,25 @@ private:
     std::mutex snapshot_mutex_;  // guards snapshot_
     std::optional<AccumulationState> snapshot_;
     PhotonGrid grid_;  // the pass's photons (its buffers reused pass after pass)
+    // --layers: per written layer, per pixel, the sum of its samples; empty unless every pass of
+    // the accumulation added to them.
+    std::vector<std::vector<glm::dvec3>> layer_sums_;
+};
+
+/// --layers over an accumulation: a pass integrator keeping one layer, and the sums its samples go to.
+struct AccumulatedLayer {
+    const ProgressiveIntegrator* integrator = nullptr;
+    std::vector<glm::dvec3>* sums = nullptr;
 };
 
 /// One progressive pass (0-based `pass`) over a tile: a sample per pixel, deterministic per (pixel,
 /// pass), traced 8 pixels to a packet, added to the accumulator with its photon probes; the
 /// pixel's mean goes to `out`. `radius_factors` (per pixel, or null: all 1) multiply the r^2 of
-/// each pixel's gathers. Once context.cancel is set the tile stops, the packet traced then adding
+/// each pixel's gathers. `layers` (or null) trace the same rays with the same random streams and
+/// add their samples to their sums (their rays are not counted). Once context.cancel is set the tile stops, the packet traced then adding
 /// nothing: the pixels it reached keep this pass's sample, the others do not have it.
 void render_accumulation_tile(const ProgressiveIntegrator& integrator, const TileContext& context, const Tile& tile,
                               int pass, const float* radius_factors, ProgressiveAccumulator& accumulator, Image& out,
-                              RayCounters& counters);
+                              RayCounters& counters, const std::vector<AccumulatedLayer>* layers = nullptr);
 
 }  // namespace caustica

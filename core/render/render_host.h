@@ -8,6 +8,7 @@
 #include "core/render/accumulation_state.h"
 #include "core/render/cluster.h"
 #include "core/render/image.h"
+#include "core/render/layer_image.h"
 #include "core/render/render_stats.h"
 #include "core/render/tile_renderer.h"
 #include "core/scene/scene_desc.h"
@@ -15,6 +16,7 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 namespace caustica {
 
@@ -101,6 +103,10 @@ public:
     virtual void request_snapshot() {}
     /// The copy asked for, once made (moved out); false until then.
     virtual bool take_snapshot(AccumulationState& /*out*/) { return false; }
+
+    /// --layers: the layers of the held work (docs/OUTPUT.md, "Layers"), in written_layers order;
+    /// empty when the loop renders none or did not render them over all of its work.
+    virtual std::vector<LayerImage> layer_images() const { return {}; }
 };
 
 }  // namespace caustica

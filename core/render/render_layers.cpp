@@ -7,13 +7,10 @@ namespace caustica {
 std::string layers_refusal(const Options& o, const std::string& path) {
     if (image_format_of(path) != ImageFormat::exr)
         return "--layers: '" + path + "': layers need an OpenEXR output (.exr); PNG and PFM hold one image";
-    if (o.accumulates())
-        return "--layers: the layers are those of one image pass, not of a progressive accumulation: drop "
-               "--passes, --time and --target-error";
     if (o.draw_aa || o.draw_caustic_map || o.show_projection_map || o.draw_caustics_only || o.draw_gi_map ||
-        o.draw_gi_only)
+        o.draw_gi_only || o.show_layer != ShadingLayer::beauty)
         return "--layers: a debug view (--draw-aa, --draw-caustic-map, --show-projection-map, --draw-caustics-only, "
-               "--draw-gi-map, --draw-gi-only) replaces the shading the layers split: drop it";
+               "--draw-gi-map, --draw-gi-only, --show-layer) replaces the shading the layers split: drop it";
     return {};
 }
 

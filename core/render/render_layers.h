@@ -5,6 +5,7 @@
 
 #include "core/integrators/integrator.h"
 #include "core/io/image_io.h"
+#include "core/render/layer_image.h"
 #include "core/render/tile_renderer.h"
 
 #include <array>
@@ -14,14 +15,8 @@
 
 namespace caustica {
 
-/// One rendered layer.
-struct LayerImage {
-    ShadingLayer layer = ShadingLayer::direct;
-    Image image;
-};
-
-/// Why a job cannot write layers to `path`, "" when it can: the output must be OpenEXR, the image
-/// one pass of tiles (not a progressive accumulation), and no debug view may replace the shading.
+/// Why a job cannot write layers to `path`, "" when it can: the output must be OpenEXR, and no
+/// debug view may replace the shading.
 std::string layers_refusal(const Options& options, const std::string& path);
 
 /// The integrators and images of --layers for one render: nothing when the job's options do not ask

@@ -349,6 +349,7 @@ ShadingSetup RenderSession::make_setup() const {
     setup.draw_caustics_only = options.draw_caustics_only;
     setup.draw_caustic_map = options.draw_caustic_map;
     setup.draw_gi_only = options.draw_gi_only;
+    setup.layer = options.show_layer;
     setup.draw_gi_map = options.draw_gi_map;
     setup.dot_radius_per_distance =
         static_cast<float>(std::tan(glm::radians(vertical_fov_degrees(job_.camera, width, height)) * 0.5) * 2.0 / height);
@@ -461,6 +462,7 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
     if (options.accumulates() && loop_) {
         Host host(*this, runner);
         loop_->run(host, setup, context);
+        if (options.layers && !cancel_requested_) layers_ = loop_->layer_images();
     } else if (distributed()) {
         render_distributed_classic(runner, context);
     } else {

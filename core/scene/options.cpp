@@ -336,6 +336,18 @@ const std::vector<OptionSpec>& option_table() {
         flag("draw-caustics-only", 0, "debug views",
              "show only the caustic radiance (progressive: on black, the image docs/ACCURACY.md measures)",
              &Options::draw_caustics_only).feeds(stage_image),
+        choice<ShadingLayer>("show-layer", "LAYER", "debug views",
+                             "render one layer as the image: image (all of it), direct, indirect, caustic, background, "
+                             "albedo or normal (docs/OUTPUT.md, Layers); passes accumulate it as they do the image",
+                             &Options::show_layer,
+                             {{"image", ShadingLayer::beauty},
+                              {"direct", ShadingLayer::direct},
+                              {"indirect", ShadingLayer::indirect},
+                              {"caustic", ShadingLayer::caustic},
+                              {"background", ShadingLayer::background},
+                              {"albedo", ShadingLayer::albedo},
+                              {"normal", ShadingLayer::normal}})
+            .feeds(stage_image),
         flag("no-caustic-map", 0, "caustics", "no caustic photon map at all", &Options::no_caustic_map)
             .feeds(stage_photons | stage_image),
         flag("gi", 0, "global illumination", "global-illumination photon map: replaces the ambient term (classic)",

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/io/image_io.h"
+#include "core/integrators/shading_layer.h"
 #include "core/io/tonemap.h"
 
 #include <cstdint>
@@ -46,6 +47,7 @@ struct Options {
     bool gi = false;               ///< global-illumination photon map (classic)
     bool draw_gi_map = false;      ///< GI photons as dots (implies the GI map)
     bool draw_gi_only = false;     ///< only the GI estimate (implies the GI map)
+    ShadingLayer show_layer = ShadingLayer::beauty;  ///< --show-layer: the image holds one layer of its light
     bool srgb = false;             ///< encode sRGB in the PNG (default: clamp, linear, as the original)
     bool layers = false;           ///< --layers: also render the light split into layers (a multilayer EXR)
     int resolution_override = 0;   ///< --minres/--lores/--midres/--hires: square size, 0 = as scripted

@@ -187,6 +187,17 @@ TEST_F(Cli, LayersAreWrittenToAMultilayerExrOnly) {
     for (const char* name : {"R", "G", "B", "A", "direct.R", "indirect.G", "caustic.B", "background.R", "albedo.G", "normal.Z"})
         EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
     EXPECT_EQ(names.size(), 22u);
+
+    // A progressive accumulation writes its accumulated layers; a continued one has none to give.
+    ASSERT_EQ(run("render --layers --integrator progressive --passes 3 scene.lua -o passes.exr").code, 0);
+    Imf::InputFile accumulated((dir_ / "passes.exr").c_str());
+    std::size_t channels = 0;
+    for (auto it = accumulated.header().channels().begin(); it != accumulated.header().channels().end(); ++it) ++channels;
+    EXPECT_EQ(channels, 22u);
+    const Result resumed = run("render --layers --resume --integrator progressive --passes 3 scene.lua -o again.exr");
+    EXPECT_EQ(resumed.code, 2);
+    EXPECT_NE(resumed.output.find("--resume: a saved accumulation holds no layers"), std::string::npos) << resumed.output;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "again.exr"));
 }
 
 TEST_F(Cli, MissingSceneFile) {

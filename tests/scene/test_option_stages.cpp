@@ -57,6 +57,7 @@ const std::map<std::string, std::vector<std::string>>& other_values() {
         {"rays", {"--rays"}},
         {"srgb", {"--srgb"}},
         {"tonemap", {"--tonemap filmic"}},
+        {"show-layer", {"--show-layer caustic"}},
         {"exposure", {"--exposure 1"}},
         {"exr-pixel", {"--exr-pixel float"}},
         {"layers", {"--layers"}},
