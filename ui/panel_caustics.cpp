@@ -109,10 +109,11 @@ std::string formatted(const char* format, double value) {
 
 /// The tooltip of a logarithmic knob: what it does, then how it is dragged and typed.
 void drag_hint(const char* what) {
-    if (!ImGui::IsItemHovered()) return;
-    ImGui::SetTooltip("%s\ndrag: %.0f%% a pixel; Shift+drag: %.0f%% a pixel; Ctrl+click or the field on the "
-                      "right: type a value",
-                      what, 100.0 * (fine_factor_per_pixel - 1.0), 100.0 * (coarse_factor_per_pixel - 1.0));
+    if (!item_wants_tooltip()) return;
+    char how[160];
+    std::snprintf(how, sizeof how, "\ndrag: %.0f%% a pixel; Shift+drag: %.0f%% a pixel; Ctrl+click or the field on the "
+                  "right: type a value", 100.0 * (fine_factor_per_pixel - 1.0), 100.0 * (coarse_factor_per_pixel - 1.0));
+    wrapped_tooltip((std::string(what) + how).c_str());
 }
 
 /// A logarithmic knob's drag field, left of its typed field `label`: a drag changes the value by a

@@ -12,9 +12,13 @@ void wrapped_tooltip(const char* text) {
     ImGui::EndTooltip();
 }
 
+bool item_wants_tooltip(bool when_disabled) {
+    return ImGui::IsItemHovered(when_disabled ? ImGuiHoveredFlags_AllowWhenDisabled : ImGuiHoveredFlags_None) &&
+           !ImGui::IsItemActive();
+}
+
 void hint(const char* text, bool when_disabled) {
-    if (ImGui::IsItemHovered(when_disabled ? ImGuiHoveredFlags_AllowWhenDisabled : ImGuiHoveredFlags_None))
-        wrapped_tooltip(text);
+    if (item_wants_tooltip(when_disabled)) wrapped_tooltip(text);
 }
 
 }  // namespace caustica::ui

@@ -21,8 +21,11 @@ inline float tooltip_wrap_width(float display_width, float font_size) {
 /// Shows `text` as a tooltip now, wrapped to fit the window.
 void wrapped_tooltip(const char* text);
 
-/// The last item's tooltip: `text`, wrapped to fit the window, while the item is hovered (also a
-/// disabled item when `when_disabled`).
+/// Whether the last item's tooltip should show: hovered (also disabled, when `when_disabled`) and
+/// not held, so that a knob being dragged does not cover the rows below it.
+bool item_wants_tooltip(bool when_disabled = false);
+
+/// The last item's tooltip: `text`, wrapped to fit the window, while item_wants_tooltip().
 void hint(const char* text, bool when_disabled = false);
 
 }  // namespace caustica::ui

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include <imgui.h>
+#include <imgui_internal.h>
 
 #include <algorithm>
 #include <map>
@@ -103,6 +104,34 @@ TEST(SnapshotKnobs, ADragIsFineShiftIsCoarseAndTheKnobStaysAsItsDifferenceAppear
     for (int i = 0; i < 3; ++i) preview.frame(click);
     EXPECT_TRUE(ImGui::GetIO().WantTextInput);
     EXPECT_EQ(preview.model->knobs().num_neighbours, 25);
+}
+
+/// Whether a tooltip was drawn in the last frame.
+bool tooltip_shown() {
+    for (const ImGuiWindow* window : ImGui::GetCurrentContext()->Windows)
+        if ((window->Flags & ImGuiWindowFlags_Tooltip) && window->Active) return true;
+    return false;
+}
+
+TEST(SnapshotKnobs, AKnobsTooltipShowsOnHoverAndNotWhileItIsDragged) {
+    Preview preview(caustic_box_text(100000));
+    ASSERT_TRUE(preview.settle()) << preview.model->error();
+    const PanelState::WidgetRect rect = knob_rect(preview, "neighbours N");
+    HeadlessInput input;
+    input.mouse = 0.5f * (rect.min + rect.max);
+    preview.frame(input);
+    preview.frame(input);
+    EXPECT_TRUE(tooltip_shown());  // hovered: what the knob does and how it is dragged
+    input.buttons[0] = true;
+    for (int i = 0; i < 6; ++i) {
+        input.mouse.x += 1.0f;
+        preview.frame(input);
+        EXPECT_FALSE(tooltip_shown()) << "frame " << i << " of the drag";  // the rows below stay in view
+    }
+    input.buttons[0] = false;
+    preview.frame(input);
+    preview.frame(input);
+    EXPECT_TRUE(tooltip_shown());
 }
 
 TEST(SnapshotKnobs, TheSidebarScrolledToItsEndDoesNotMoveWhenItGetsShorter) {
