@@ -279,3 +279,41 @@ TEST(AccumulationState, ASessionRefusesAnotherJobsAccumulation) {
         EXPECT_NE(std::string(e.what()).find("another camera"), std::string::npos) << e.what();
     }
 }
+
+namespace caustica {
+namespace {
+
+/// Continues the session's accumulation to `passes` (resume: the snapshot asked for survives).
+void continue_to(RenderSession& session, int passes) {
+    session.set_stop_rules(passes, 0.0, 0.0);
+    ASSERT_TRUE(session.resume());
+    ASSERT_TRUE(session.wait());
+}
+
+TEST(AccumulationState, ASnapshotIsOfTheNextWholePassAndAStaleOneIsNeverHandedOut) {
+    RenderSession session;
+    render_to_end(session, focus_job(2));
+    // Asked for between renders: made at the end of the next pass (3), whatever ran after it.
+    session.request_accumulation_snapshot();
+    continue_to(session, 4);
+    AccumulationState snapshot;
+    ASSERT_TRUE(session.take_accumulation_snapshot(snapshot));
+    EXPECT_EQ(snapshot.next_pass, 3);
+    EXPECT_FALSE(session.take_accumulation_snapshot(snapshot)) << "a snapshot is handed out once";
+    // One made (after pass 5) and never taken is stale once another is asked for: the new request
+    // drops it, and nothing is handed out until the pass under way ends.
+    session.request_accumulation_snapshot();
+    continue_to(session, 6);
+    session.request_accumulation_snapshot();
+    EXPECT_FALSE(session.take_accumulation_snapshot(snapshot)) << "the snapshot of pass 5 was handed to a later request";
+    continue_to(session, 7);
+    ASSERT_TRUE(session.take_accumulation_snapshot(snapshot));
+    EXPECT_EQ(snapshot.next_pass, 7);
+    AccumulationState now;
+    ASSERT_TRUE(session.accumulation_state(now));
+    EXPECT_EQ(snapshot.key, now.key);
+    EXPECT_EQ(snapshot.sums, now.sums);  // the 7 passes, as the session holds them
+}
+
+}  // namespace
+}  // namespace caustica

@@ -3,6 +3,7 @@
 // line's options continues it; a preview opening the scene again continues it to the bits of one
 // uninterrupted run; a damaged state, or one of another job, is ignored with the reason and kept.
 // GL-free and fast: tiny images, a few thousand photons.
+#include "ui/saved_accumulation.h"
 #include "ui/view_model.h"
 #include "ui_test_support.h"
 
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 
 namespace caustica::ui {
@@ -192,6 +194,56 @@ TEST(PreviewResume, ADamagedOrForeignStateIsIgnoredWithTheReasonAndKept) {
         EXPECT_NE(note->text.find(c.reason), std::string::npos) << note->text;
         EXPECT_EQ(file_text(state_path), c.bytes) << "the file was changed";
     }
+}
+
+// A save while refining waits for the end of the pass under way; a change that restarts the render
+// first ends that wait: nothing is written, and the note says why.
+TEST(PreviewResume, ARestartBeforeThePassEndsWritesNoState) {
+    TempFolder folder;
+    const std::string scene = folder.write("box.lua", progressive_box());
+    const InFolder here(folder.path());
+    ViewModel model(with_tokens({}));
+    model.open(scene);
+    ASSERT_TRUE(run_until(model, [&] { return model.driver().accumulation().passes_done >= 1; }, time_bound(30.0)))
+        << model.error();
+    const SaveResult saved = model.save(model.default_save_path(), false);
+    ASSERT_EQ(saved.outcome, SaveOutcome::written) << saved.message;
+    ASSERT_NE(saved.message.find("at the end of the pass under way"), std::string::npos) << saved.message;
+    CausticKnobs knobs = model.knobs();
+    knobs.num_neighbours += 3;  // restarts the accumulation, before the model looks again
+    model.set_knobs(knobs);
+    std::optional<ModelNote> note;
+    ASSERT_TRUE(run_until(model, [&] { return (note = model.take_note()).has_value(); }, time_bound(30.0)));
+    EXPECT_TRUE(note->problem) << note->text;
+    EXPECT_NE(note->text.find("not written: another render started"), std::string::npos) << note->text;
+    EXPECT_FALSE(std::filesystem::exists(folder.file("caustic_box.png.caustica-state")));
+    model.set_paused(true);
+}
+
+// The state a save writes is checked against the job shown when the save was asked for: one made
+// for another camera (a snapshot from before a restart) is refused and nothing is written.
+TEST(PreviewResume, AStateOfAnotherJobIsNeverWrittenUnderTheShownJobsKey) {
+    TempFolder folder;
+    const std::string scene = folder.write("box.lua", progressive_box());
+    const InFolder here(folder.path());
+    ViewModel model(with_tokens({"--passes", "2"}));
+    open_and_finish(model, scene);
+    AccumulationState state;
+    ASSERT_TRUE(model.driver().session().accumulation_state(state));
+    const RenderJob shown = model.current_job();
+    RenderJob moved = shown;
+    moved.camera.eye.x += 0.25;
+    const std::string path = folder.file("other.caustica-state");
+    try {
+        write_saved_accumulation(path, state, moved, job_as_rendered(moved, 0), true);
+        FAIL() << "another camera's accumulation was written";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("the accumulation at hand is another job's"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(path));
+    // The shown job's own state is written, keyed for `render --resume`.
+    write_saved_accumulation(path, state, shown, job_as_rendered(shown, 0), true);
+    EXPECT_EQ(read_accumulation_state(path, shown.width, shown.height).next_pass, 2);
 }
 
 }  // namespace
