@@ -6,7 +6,9 @@
 
 #include "core/io/image_io.h"
 #include "core/photons/photon_tracer.h"
+#include "core/render/accumulation_state.h"
 #include "core/scene/source_location.h"
+#include "core/util/printable_text.h"
 #include "ui/view_model_internal.h"
 
 #include <algorithm>
@@ -327,6 +329,14 @@ std::vector<std::string> ViewModel::command_line_notes() const {
         if (integrator_entry(job.options.integrator).accumulates && rules.passes == 0 && rules.time_limit <= 0.0 &&
             rules.target_error <= 0.0)
             notes.push_back("the preview refines until paused; the command renders the passes shown so far");
+        // The copied command writes beside the saved image; continuing the state saved with it
+        // means writing the saved image itself.
+        std::error_code error;
+        if (integrator_entry(job.options.integrator).accumulates && !last_saved_.empty() &&
+            std::filesystem::is_regular_file(accumulation_state_path(last_saved_), error))
+            notes.push_back("to continue the accumulation saved with " + printable_text(last_saved_) +
+                            ": add --resume and write -o " + shell_quote(last_saved_) +
+                            " (it replaces that image; --passes, --time and --target-error count from its start)");
     }
     return notes;
 }

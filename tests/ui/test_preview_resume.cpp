@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -88,6 +89,11 @@ TEST(PreviewResume, SavingAnAccumulationWritesTheStateRenderResumeContinues) {
             read_accumulation_state(folder.file("caustic_box.png.caustica-state"), shown.width, shown.height);
         EXPECT_EQ(state.next_pass, 3);
         EXPECT_EQ(state.key, key_of_command_line(model.command_line(), scene)) << model.command_line();
+        // The copied command writes beside the saved image; its notes say how to continue instead.
+        const std::vector<std::string> notes = model.command_line_notes();
+        EXPECT_TRUE(std::any_of(notes.begin(), notes.end(), [&](const std::string& n) {
+            return n.find(": add --resume and write -o " + model.last_saved()) != std::string::npos;
+        })) << model.command_line();
     }
 }
 
