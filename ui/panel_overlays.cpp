@@ -1,6 +1,7 @@
 // What floats over the image area: the status line, a scene error, the help, the overwrite
 // question and passing messages.
 #include "ui/panels.h"
+#include "ui/text_lines.h"
 
 #include <imgui.h>
 
@@ -59,7 +60,11 @@ void status_line(const ViewModel& model, PanelState& state, float scale, glm::ve
             ImGui::Text("%s  %d x %d%s  %s  %.1f s", name.c_str(), driver.job().width, driver.job().height,
                         magnification(scale).c_str(), what.c_str(), p.elapsed_seconds);
             const SessionProgress& a = driver.accumulation();
-            if (a.accumulating) ImGui::TextUnformatted(refinement_summary(a).c_str());
+            if (a.accumulating)
+                for (const std::string& line :
+                     lines_of_parts(refinement_parts(a), "  |  ", text_width,
+                                    [](const std::string& t) { return ImGui::CalcTextSize(t.c_str()).x; }))
+                    ImGui::TextUnformatted(line.c_str());
         } else {
             const double done = 100.0 * render_fraction(p);
             ImGui::Text("%s  %d x %d%s  %s %3.0f%%  %.2f s", name.c_str(), driver.job().width, driver.job().height,

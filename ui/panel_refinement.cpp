@@ -26,8 +26,7 @@ std::string short_count(double n) {
     return text;
 }
 
-std::string refinement_summary(const SessionProgress& a) {
-    char text[256];
+std::vector<std::string> refinement_parts(const SessionProgress& a) {
     const std::string passes = a.pass_limit > 0 ? std::to_string(a.passes_done) + " of " + std::to_string(a.pass_limit)
                                                 : std::to_string(a.passes_done);
     char error[96];
@@ -36,9 +35,16 @@ std::string refinement_summary(const SessionProgress& a) {
                       100.0 * a.error.noise, 100.0 * a.error.bias);
     else
         std::snprintf(error, sizeof error, "est. error after 2 passes");
-    std::snprintf(text, sizeof text, "%s %s  |  %s photons  |  %.0f spp  |  %s  |  radius %.3g", passes.c_str(),
-                  a.passes_done == 1 && a.pass_limit == 0 ? "pass" : "passes", short_count(a.photons_emitted).c_str(),
-                  a.samples_per_pixel, error, a.radius);
+    char samples[32], radius[32];
+    std::snprintf(samples, sizeof samples, "%.0f spp", a.samples_per_pixel);
+    std::snprintf(radius, sizeof radius, "radius %.3g", a.radius);
+    return {passes + (a.passes_done == 1 && a.pass_limit == 0 ? " pass" : " passes"),
+            short_count(a.photons_emitted) + " photons", samples, error, radius};
+}
+
+std::string refinement_summary(const SessionProgress& a) {
+    std::string text;
+    for (const std::string& part : refinement_parts(a)) text += (text.empty() ? "" : "  |  ") + part;
     return text;
 }
 

@@ -96,6 +96,8 @@ void draw_stats_section(const ViewModel& model, const PanelState& state);
 void draw_refinement_controls(ViewModel& model, PanelState& state);
 /// "37 of 100 passes  |  370M photons  |  37 spp  |  est. error 4.2% (...)  |  radius 0.031".
 std::string refinement_summary(const SessionProgress& accumulation);
+/// The parts of refinement_summary, the status line's pieces that never break across lines.
+std::vector<std::string> refinement_parts(const SessionProgress& accumulation);
 /// What the render does, in words: "refining", "paused", "shooting photons", "stopped by the pass limit".
 std::string render_state(const ViewModel& model);
 /// A count in few digits: 950, 12.5k, 370M, 1.2G.

@@ -697,3 +697,26 @@ TEST(ViewArguments, AScriptedRunEndingWithAnErrorShownExitsTwo) {
 
 }  // namespace
 }  // namespace caustica::ui
+
+#include "ui/text_lines.h"
+
+namespace caustica::ui {
+namespace {
+
+TEST(StatusLines, BreakOnlyBetweenPartsSoNoNumberIsSplit) {
+    const auto measure = [](const std::string& t) { return 7.0f * static_cast<float>(t.size()); };  // 7-pixel characters
+    const std::vector<std::string> parts = {"16 of 16 passes", "320M photons", "16 spp",
+                                            "est. error 5.0% (noise 1.8%, bias 4.7%)", "radius 0.0185"};
+    // 700 pixels hold 100 characters: the first four parts (86), then the radius whole.
+    EXPECT_EQ(lines_of_parts(parts, "  |  ", 700.0f, measure),
+              (std::vector<std::string>{"16 of 16 passes  |  320M photons  |  16 spp  |  est. error 5.0% (noise 1.8%, bias 4.7%)",
+                                        "radius 0.0185"}));
+    // Wide enough for all: one line, as refinement_summary joins them.
+    EXPECT_EQ(lines_of_parts(parts, "  |  ", 1e4f, measure).size(), 1u);
+    // Narrower than any part: one part a line, none cut.
+    EXPECT_EQ(lines_of_parts(parts, "  |  ", 10.0f, measure), parts);
+    EXPECT_TRUE(lines_of_parts({}, "  |  ", 100.0f, measure).empty());
+}
+
+}  // namespace
+}  // namespace caustica::ui
