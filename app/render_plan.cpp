@@ -170,6 +170,7 @@ int plan_render(const std::vector<std::string>& args, RenderSession& session, bo
     for (const AnimationFrame& frame : out.plan.frames) {
         const Options& o = frame.job.options;
         check_render_stop_rules(o);
+        check_shown_layer(o);
         if (const std::string why = o.layers ? layers_refusal(o, frame.path) : std::string(); !why.empty())
             throw parsed.output.empty() ? InputError(frame.job.where, "gr.render: " + why) : InputError(why);
     }

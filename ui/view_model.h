@@ -416,6 +416,9 @@ private:
         std::uint64_t restarts = 0;  // the driver's, when asked: another job started since ends it
     };
     std::optional<StateToWrite> state_to_write_;
+    // The job (key_without_scene) whose accumulation the last save wrote beside last_saved_, if
+    // one was: while the job is that one, the command line's notes say how to continue it.
+    std::optional<AccumulationKey> saved_state_key_;
     std::optional<ModelNote> note_;
 
     CameraDesc region_camera_;  // the view the render region was drawn on

@@ -7,6 +7,7 @@
 #include "core/io/image_io.h"
 #include "core/photons/photon_tracer.h"
 #include "core/render/accumulation_state.h"
+#include "ui/saved_accumulation.h"
 #include "core/scene/source_location.h"
 #include "core/util/printable_text.h"
 #include "ui/view_model_internal.h"
@@ -330,10 +331,8 @@ std::vector<std::string> ViewModel::command_line_notes() const {
             rules.target_error <= 0.0)
             notes.push_back("the preview refines until paused; the command renders the passes shown so far");
         // The copied command writes beside the saved image; continuing the state saved with it
-        // means writing the saved image itself.
-        std::error_code error;
-        if (integrator_entry(job.options.integrator).accumulates && !last_saved_.empty() &&
-            std::filesystem::is_regular_file(accumulation_state_path(last_saved_), error))
+        // (while the job is still the one saved) means writing the saved image itself.
+        if (saved_state_key_ && !last_saved_.empty() && *saved_state_key_ == key_without_scene(job))
             notes.push_back("to continue the accumulation saved with " + printable_text(last_saved_) +
                             ": add --resume and write -o " + shell_quote(last_saved_) +
                             " (it replaces that image; --passes, --time and --target-error count from its start)");

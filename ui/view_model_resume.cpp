@@ -30,6 +30,7 @@ void ViewModel::request_job(const RenderJob& job) {
 }
 
 std::string ViewModel::save_accumulation(const std::string& image_path, bool inside_current_folder) {
+    saved_state_key_.reset();
     if (!driver_.job().options.accumulates() || !driver_.accumulation().accumulating) return "";
     const std::string state_path = accumulation_state_path(image_path);
     const std::string shown = printable_text(accumulation_state_path(last_saved_));
@@ -39,6 +40,7 @@ std::string ViewModel::save_accumulation(const std::string& image_path, bool ins
         const int passes = state.next_pass;
         try {
             write_saved_accumulation(state_path, std::move(state), driver_.job(), rendered, inside_current_folder);
+            saved_state_key_ = key_without_scene(driver_.job());
         } catch (const std::exception& e) {
             return "\nits accumulation is not saved: " + printable_text(e.what());
         }
@@ -75,6 +77,7 @@ void ViewModel::follow_saved_accumulations() {
         write_saved_accumulation(state_to_write_->path, std::move(state), state_to_write_->shown_job, state_to_write_->rendered,
                                  state_to_write_->inside_current_folder);
         note_ = ModelNote{"wrote the accumulation (" + std::to_string(passes) + " passes) in " + shown, false};
+        saved_state_key_ = key_without_scene(state_to_write_->shown_job);
     } catch (const std::exception& e) {
         note_ = ModelNote{"the accumulation is not saved: " + printable_text(e.what()), true};
     }

@@ -325,7 +325,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     const bool resumed = acc.valid && !shared;
     // --layers: sums from the accumulation's first pass, or none (a continued accumulation that had
     // none, or a pass without them, has no layers to give).
-    const bool with_layers = options.layers && !shared && (!resumed || !layer_sums_.empty());
+    const bool with_layers = options.layers && host.renders_layers() && !shared && (!resumed || !layer_sums_.empty());
     if (!with_layers) layer_sums_.clear();
     if (!resumed) {
         accumulator_.reset(job.width, job.height);

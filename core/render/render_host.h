@@ -50,6 +50,8 @@ public:
     virtual int coarse_preview_block() const = 0;
     /// A coarse direct-light image was shown before the photons were shot (it counts as a pass).
     virtual bool direct_preview_shown() const = 0;
+    /// Whether --layers are rendered: in batch; never in the preview, which shows no layers.
+    virtual bool renders_layers() const { return true; }
 
     /// The image the viewer copies tiles from, and its tiles.
     virtual Image& image() = 0;

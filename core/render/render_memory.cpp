@@ -60,7 +60,7 @@ void charge_photon_maps(const RenderJob& job, std::vector<MemoryCharge>& out) {
 
 /// The image the job renders: the session's float image and the copy its output is written
 /// from (12 bytes a pixel each) and, for an accumulation, its per-pixel sums (and a radius per
-/// pixel's factors and snapshots), charged to the gr.render.
+/// pixel's factors and snapshots), and the --layers images, charged to the gr.render.
 void charge_image(const RenderJob& job, std::vector<MemoryCharge>& out) {
     const int r = job.options.resolution_override;
     const double width = r ? r : job.width, height = r ? r : job.height;
@@ -70,6 +70,11 @@ void charge_image(const RenderJob& job, std::vector<MemoryCharge>& out) {
         if (job.options.adaptive_radius)
             per_pixel += sizeof(float) + ProgressiveAccumulator::snapshot_slots * sizeof(std::int64_t);
     }
+    // --layers: each layer's image and its scaled copy for the file and, over an accumulation, its
+    // double sums.
+    if (job.options.layers)
+        per_pixel += static_cast<double>(std::size(written_layers)) *
+                     (2.0 * sizeof(glm::vec3) + (job.options.accumulates() ? sizeof(glm::dvec3) : 0.0));
     MemoryCharge charge;
     charge.bytes = width * height * per_pixel;
     charge.where = job.where;

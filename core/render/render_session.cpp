@@ -146,6 +146,7 @@ void RenderSession::warn_about_options() {
 void RenderSession::prepare_checked_scene() {
     if (!job_.scene) throw InputError("no scene to render");
     validate_render_job(job_);  // numbers the renderer cannot compute with: refused with their line
+    check_shown_layer(job_.options);
     prepare_scene();
     warn_about_options();
 }

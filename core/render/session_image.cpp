@@ -68,6 +68,7 @@ public:
         return session_.coarse_preview_ && !session_.direct_first_ ? session_.preview_block_ : 0;
     }
     bool direct_preview_shown() const override { return session_.direct_first_; }
+    bool renders_layers() const override { return !session_.coarse_preview_; }
     Image& image() override { return session_.image_; }
     const std::vector<Tile>& tiles() const override { return session_.tiles_; }
     RenderRegion region() const override { return session_.region_in_image(); }

@@ -162,6 +162,9 @@ std::string describe_non_default(const Options& options);
 /// Refuses, with InputError, stopping rules `caustica render` could never end: a progressive
 /// accumulation with --passes 0 and neither --time nor --target-error.
 void check_render_stop_rules(const Options& options);
+/// Refuses --show-layer (other than image) with a debug view, which would replace the shading the
+/// layer is part of (InputError).
+void check_shown_layer(const Options& options);
 
 /// Levenshtein distance, for "did you mean" suggestions.
 int edit_distance(std::string_view a, std::string_view b);

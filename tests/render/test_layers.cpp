@@ -130,6 +130,28 @@ TEST(Layers, ShowLayerRendersTheLayerAsTheImage) {
     }
 }
 
+TEST(Layers, AShownLayerRefusesADebugViewBeforeRendering) {
+    Options o;
+    o.show_layer = ShadingLayer::direct;
+    EXPECT_NO_THROW(check_shown_layer(o));
+    o.draw_caustics_only = true;  // classic would show the caustic estimate, progressive black
+    EXPECT_THROW(check_shown_layer(o), InputError);
+    o.show_layer = ShadingLayer::beauty;
+    EXPECT_NO_THROW(check_shown_layer(o));
+    // The session refuses it too (the preview takes such a change back), naming the option.
+    RenderJob job = every_kind_of_light("--draw-gi-only --show-layer caustic");
+    job.options.layers = false;
+    RenderSession session;
+    session.set_job(job);
+    session.start();
+    try {
+        session.wait();
+        FAIL() << "a shown layer with a debug view rendered";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("--show-layer: a debug view"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Layers, AlbedoIsKdAndTheNormalFacesTheCamera) {
     for (const char* integrator : {"classic", "progressive"}) {
         JobBuilder b(65, 65);  // odd: the centre pixel's ray is exactly the axis

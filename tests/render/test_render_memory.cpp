@@ -114,6 +114,15 @@ TEST(RenderMemory, AMeshIsChargedOnceByItsFormulaWhateverItsInstances) {
     const RenderScene scene(*job.scene, flat);
     EXPECT_DOUBLE_EQ(scene.info().estimated_bytes, total_bytes(scene_memory_charges(*job.scene, flat)));
     expect_one_charge(charges, "the 16 x 16 image", 16.0 * 16.0 * 24.0, "gr.render", 13);
+    // --layers: six layers of an image and its copy for the file, and over an accumulation their
+    // double sums, besides the accumulator's 200 bytes.
+    RenderJob layered = job;
+    layered.apply_command_line({"--layers"});
+    expect_one_charge(render_memory_charges(layered, flat), "the 16 x 16 image", 16.0 * 16.0 * (24.0 + 6.0 * 24.0),
+                      "gr.render", 13);
+    layered.apply_command_line({"--integrator", "progressive", "--passes", "4"});
+    expect_one_charge(render_memory_charges(layered, flat), "the 16 x 16 image",
+                      16.0 * 16.0 * (24.0 + 200.0 + 6.0 * (24.0 + 24.0)), "gr.render", 13);
 }
 
 TEST(RenderMemory, PhotonMapsKnownBeforeTheBuildAreCharged) {

@@ -94,6 +94,12 @@ TEST(PreviewResume, SavingAnAccumulationWritesTheStateRenderResumeContinues) {
         EXPECT_TRUE(std::any_of(notes.begin(), notes.end(), [&](const std::string& n) {
             return n.find(": add --resume and write -o " + model.last_saved()) != std::string::npos;
         })) << model.command_line();
+        // Another job would not continue that state: the note goes.
+        CausticKnobs knobs = model.knobs();
+        knobs.num_neighbours += 2;
+        model.set_knobs(knobs);
+        for (const std::string& n : model.command_line_notes())
+            EXPECT_EQ(n.find("add --resume"), std::string::npos) << n;
     }
 }
 
