@@ -315,7 +315,8 @@ int render_with_ranks(Cluster& cluster, RenderSession& session, const RenderPlan
             mine.reset();
             if (root) {
                 try {
-                    code = write_frame(frame, plan.parsed.scene, label(frame), session.image(), session.stats());
+                    code = write_frame(frame, plan.parsed.scene, label(frame), session.image(), session.stats(), nullptr,
+                                       &session.layers());
                 } catch (...) {
                     mine = failure_here(std::current_exception(), cluster, nullptr);
                 }
@@ -435,10 +436,17 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
     try {
         early = plan_render(args, session, root, plan);
         if (early < 0)
-            for (const AnimationFrame& frame : plan.plan.frames)
-                if (frame.job.options.layers)
-                    throw InputError("--layers renders in one process: under mpirun the ranks do not gather the "
-                                     "layers; run it without mpirun");
+            for (const AnimationFrame& frame : plan.plan.frames) {
+                // The ranks gather the layers with the tiles of one image pass, not with the sums
+                // of an accumulation or with whole frames.
+                if (frame.job.options.layers && frame.job.options.accumulates())
+                    throw InputError("--layers under mpirun: the ranks of a progressive accumulation do not add "
+                                     "up their layers; run it without mpirun, or drop --passes, --time and "
+                                     "--target-error");
+                if (frame.job.options.layers && plan.plan.frames.size() > static_cast<std::size_t>(cluster->size()))
+                    throw InputError("--layers under mpirun: with more frames than processes each renders whole "
+                                     "frames, whose layers are not sent; use at least as many processes as frames");
+            }
     } catch (...) {
         error = std::current_exception();
     }

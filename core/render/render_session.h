@@ -236,8 +236,10 @@ private:
     void run_distributed(tbb::task_arena& arena, int threads);  // run() with the other ranks
     bool distributed() const { return cluster_ && cluster_->size() > 1; }
     void render_distributed_classic(PassRunner& runner, TileContext& context);
-    Cluster::Bytes tile_bytes(int first, int last) const;
-    void put_tile_bytes(int first, int last, const Cluster::Bytes& bytes);
+    /// Tiles [first, last) as another rank sends them: each row's pixels, refine flags and the
+    /// --layers images' pixels (context.layers, or none).
+    Cluster::Bytes tile_bytes(int first, int last, const std::vector<LayerTarget>* layers) const;
+    void put_tile_bytes(int first, int last, const Cluster::Bytes& bytes, const std::vector<LayerTarget>* layers);
     void prepare_scene();       // flattening, BVH, textures
     void prepare_checked_scene();  // the job validated, its scene built, its option warnings
     void prepare_caustics();    // projection maps, photons, k-d tree

@@ -48,7 +48,7 @@ void RenderSession::run_distributed(tbb::task_arena& arena, int threads) {
 }
 
 // A tile's result: its pixels, row by row, then (classic) its pixels' corner_grid refine flags.
-Cluster::Bytes RenderSession::tile_bytes(int first, int last) const {
+Cluster::Bytes RenderSession::tile_bytes(int first, int last, const std::vector<LayerTarget>* layers) const {
     Cluster::Bytes bytes;
     for (int i = first; i < last; ++i) {
         const Tile& t = tiles_[static_cast<std::size_t>(i)];
@@ -58,24 +58,35 @@ Cluster::Bytes RenderSession::tile_bytes(int first, int last) const {
             bytes.insert(bytes.end(), row, row + sizeof(glm::vec3) * width);
             const std::uint8_t* flags = refine_.data() + static_cast<std::size_t>(y) * image_.width + t.x0;
             bytes.insert(bytes.end(), flags, flags + width);
+            if (layers)
+                for (const LayerTarget& layer : *layers) {
+                    const auto* layer_row = reinterpret_cast<const std::uint8_t*>(&layer.image->at(t.x0, y));
+                    bytes.insert(bytes.end(), layer_row, layer_row + sizeof(glm::vec3) * width);
+                }
         }
     }
     return bytes;
 }
 
-void RenderSession::put_tile_bytes(int first, int last, const Cluster::Bytes& bytes) {
+void RenderSession::put_tile_bytes(int first, int last, const Cluster::Bytes& bytes,
+                                   const std::vector<LayerTarget>* layers) {
+    const std::size_t layer_count = layers ? layers->size() : 0;
     std::size_t at = 0;
     for (int i = first; i < last; ++i) {
         const std::size_t index = static_cast<std::size_t>(i);
         const Tile& t = tiles_[index];
-        const std::size_t width = static_cast<std::size_t>(t.x1 - t.x0), row_bytes = (sizeof(glm::vec3) + 1) * width;
+        const std::size_t width = static_cast<std::size_t>(t.x1 - t.x0), pixel_bytes = sizeof(glm::vec3) * width,
+                          row_bytes = (sizeof(glm::vec3) * (1 + layer_count) + 1) * width;
         if (at + row_bytes * static_cast<std::size_t>(t.y1 - t.y0) > bytes.size())
             throw std::runtime_error("tile results from another rank are truncated");
         std::lock_guard tile_lock(tile_mutexes_[index]);
         for (int y = t.y0; y < t.y1; ++y, at += row_bytes) {
-            std::memcpy(&image_.at(t.x0, y), bytes.data() + at, sizeof(glm::vec3) * width);
-            std::memcpy(refine_.data() + static_cast<std::size_t>(y) * image_.width + t.x0,
-                        bytes.data() + at + sizeof(glm::vec3) * width, width);
+            std::memcpy(&image_.at(t.x0, y), bytes.data() + at, pixel_bytes);
+            std::memcpy(refine_.data() + static_cast<std::size_t>(y) * image_.width + t.x0, bytes.data() + at + pixel_bytes,
+                        width);
+            for (std::size_t l = 0; l < layer_count; ++l)
+                std::memcpy(&(*layers)[l].image->at(t.x0, y), bytes.data() + at + pixel_bytes + width + l * pixel_bytes,
+                            pixel_bytes);
         }
         tile_versions_[index].store(++version_counter_, std::memory_order_release);
         tiles_done_.fetch_add(1, std::memory_order_relaxed);
@@ -107,10 +118,10 @@ void RenderSession::render_distributed_classic(PassRunner& runner, TileContext& 
         const Cluster::WorkFn work = [&](int first, int last) {
             runner.run_range(first, last, body);
             if (cancel_requested_) throw ClusterError(RankFailure{cluster_->rank(), cluster_interrupted_code, "interrupted"});
-            return tile_bytes(first, last);
+            return tile_bytes(first, last, context.layers);
         };
         const Cluster::CollectFn collect = [&](int first, int last, const Cluster::Bytes& bytes) {
-            put_tile_bytes(first, last, bytes);
+            put_tile_bytes(first, last, bytes, context.layers);
         };
         if (const std::optional<RankFailure> failure = cluster_->share_work(tiles, batch, work, collect, &cancel_requested_))
             throw ClusterError(*failure);
@@ -123,26 +134,34 @@ void RenderSession::render_distributed_classic(PassRunner& runner, TileContext& 
     if (!antialias) return;
     // The anti-aliasing pass reads the whole first pass (and corner_grid's flags): rank 0 has it.
     // (Every buffer is made before the checkpoint: nothing may fail between it and the broadcast.)
-    const std::size_t pixels = static_cast<std::size_t>(width) * height;
+    // The --layers images' first pass too: a layer's anti-aliased pixel starts from it.
+    const std::size_t pixels = static_cast<std::size_t>(width) * height, image_bytes = pixels * sizeof(glm::vec3);
+    const std::size_t layer_count = context.layers ? context.layers->size() : 0;
+    const std::size_t total = image_bytes * (1 + layer_count) + pixels;
     Cluster::Bytes first;
     std::exception_ptr error;
     try {
-        first.reserve(pixels * sizeof(glm::vec3) + pixels);
+        first.reserve(total);
         if (cluster_->rank() == 0) {
-            first.resize(pixels * sizeof(glm::vec3) + pixels);
-            std::memcpy(first.data(), image_.pixels.data(), pixels * sizeof(glm::vec3));
-            std::memcpy(first.data() + pixels * sizeof(glm::vec3), refine_.data(), pixels);
+            first.resize(total);
+            std::memcpy(first.data(), image_.pixels.data(), image_bytes);
+            std::memcpy(first.data() + image_bytes, refine_.data(), pixels);
+            for (std::size_t l = 0; l < layer_count; ++l)
+                std::memcpy(first.data() + image_bytes + pixels + l * image_bytes,
+                            (*context.layers)[l].image->pixels.data(), image_bytes);
         }
     } catch (...) {
         error = std::current_exception();
     }
     cluster_->checkpoint(error, &cancel_requested_);
     cluster_->broadcast(first, 0);
-    if (first.size() != pixels * sizeof(glm::vec3) + pixels)
-        throw std::runtime_error("the first pass from rank 0 has the wrong size");
+    if (first.size() != total) throw std::runtime_error("the first pass from rank 0 has the wrong size");
     if (cluster_->rank() != 0) {
-        std::memcpy(image_.pixels.data(), first.data(), pixels * sizeof(glm::vec3));
-        std::memcpy(refine_.data(), first.data() + pixels * sizeof(glm::vec3), pixels);
+        std::memcpy(image_.pixels.data(), first.data(), image_bytes);
+        std::memcpy(refine_.data(), first.data() + image_bytes, pixels);
+        for (std::size_t l = 0; l < layer_count; ++l)
+            std::memcpy((*context.layers)[l].image->pixels.data(), first.data() + image_bytes + pixels + l * image_bytes,
+                        image_bytes);
     }
     first_pass_ = image_;
     share("anti-aliasing", 1, [&](std::size_t, const Tile& tile, RayCounters& c) {

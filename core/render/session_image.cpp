@@ -156,7 +156,11 @@ void RenderSession::render_passes(tbb::task_arena& arena, int threads) {
         loop_->run(host, setup, context);
         if (options.layers && !cancel_requested_) layers_ = loop_->layer_images();
     } else if (distributed()) {
+        // --layers: every rank renders its tiles' layers too, and rank 0 collects them with the tiles.
+        LayerRender layers(setup, options, width, height, !coarse_preview_);
+        context.layers = layers.targets();
         render_distributed_classic(runner, context);
+        if (!cancel_requested_ && cluster_->rank() == 0) layers_ = layers.take_images();
     } else {
         const std::vector<Tile>& tiles = tiles_;
         // With a region, only its pixels are rendered again; the others keep the last image.

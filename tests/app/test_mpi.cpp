@@ -8,15 +8,23 @@
 
 #include <gtest/gtest.h>
 
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <spawn.h>
 #include <sys/wait.h>
@@ -169,6 +177,46 @@ TEST_F(Mpi, MoreFramesThanRanksAreSharedAsWholeFrames) {
         EXPECT_EQ(read("shared-" + frame + ".pfm"), read("alone-" + frame + ".pfm")) << "frame " << frame;
     }
     EXPECT_NE(read("shared-0001.pfm"), read("shared-0002.pfm"));  // the camera did turn
+}
+
+/// Every channel of an OpenEXR file by name, as floats.
+std::map<std::string, std::vector<float>> exr_channels(const fs::path& path) {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i window = file.header().dataWindow();
+    const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
+    std::map<std::string, std::vector<float>> channels;
+    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
+        channels[it.name()].resize(static_cast<std::size_t>(width) * height);
+    Imf::FrameBuffer frame;
+    for (auto& [name, values] : channels)
+        frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(values.data()), sizeof(float),
+                                      sizeof(float) * width));
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    return channels;
+}
+
+TEST_F(Mpi, LayersComeBackWithTheTilesAsOneProcesssLayers) {
+    // One image pass with anti-aliasing: the layers' first pass goes to every rank with the image's.
+    const std::string args = "'" + box + "' --reproducible --lores --caustic-num-photons 100000 --layers --exr-pixel float";
+    const CommandResult alone = render(args + " -o alone.exr", 0);
+    ASSERT_EQ(alone.code, 0) << alone.output;
+    const CommandResult shared = render(args + " -o shared.exr", 2);
+    ASSERT_EQ(shared.code, 0) << shared.output;
+    const auto one = exr_channels(dir_ / "alone.exr"), two = exr_channels(dir_ / "shared.exr");
+    EXPECT_EQ(one.size(), 22u);
+    EXPECT_TRUE(one == two) << "two processes' layers differ from one's";
+    float brightest_caustic = 0.0f;
+    for (float v : one.at("caustic.G")) brightest_caustic = std::max(brightest_caustic, v);
+    EXPECT_GT(brightest_caustic, 0.0f);
+    // An accumulation's layers, and whole frames', are refused before anything renders.
+    for (const std::string refused : {" --integrator progressive --passes 3 -o acc.exr", " --orbit-frames 3 -o f.exr"}) {
+        const CommandResult r = render(args + refused, 2);
+        EXPECT_EQ(r.code, 2) << r.output;
+        EXPECT_NE(r.output.find("--layers under mpirun"), std::string::npos) << r.output;
+    }
+    EXPECT_FALSE(exists("acc.exr"));
+    EXPECT_FALSE(exists("f-0001.exr"));
 }
 
 TEST_F(Mpi, ResumeIsRefusedUnderMpirunBeforeAnyRendering) {
