@@ -117,8 +117,10 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
                 // One stream per (pixel, pass): the same image for any thread count.
                 streams[i] = RandomStream(context.seed, index, 16 + static_cast<std::uint64_t>(pass));
             }
-            RandomStream initial[8] = {streams[0], streams[1], streams[2], streams[3],
-                                       streams[4], streams[5], streams[6], streams[7]};
+            // The layers trace with the streams the image's samples start from.
+            const std::size_t layer_count = layers ? layers->size() : 0;
+            RandomStream initial[8] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}};
+            if (layer_count > 0) std::copy(std::begin(streams), std::end(streams), std::begin(initial));
             glm::vec3 colour[8];
             double photon[8], inner[8];
             integrator.trace_samples8(rays, valid, streams, radius_factors ? scales : nullptr, colour, photon, inner,
@@ -127,7 +129,6 @@ void render_accumulation_tile(const ProgressiveIntegrator& integrator, const Til
             if (cut_short) break;
             // Each layer's samples, all traced before any is added: a cancel adds nothing of the packet.
             glm::vec3 layer_colour[std::size(written_layers)][8];
-            const std::size_t layer_count = layers ? std::min(layers->size(), std::size(written_layers)) : 0;
             for (std::size_t l = 0; l < layer_count; ++l) {
                 RandomStream same[8] = {initial[0], initial[1], initial[2], initial[3],
                                         initial[4], initial[5], initial[6], initial[7]};
@@ -473,16 +474,15 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             const float* const factors = acc.radius_factors.empty() ? nullptr : acc.radius_factors.data();
             const ProgressiveIntegrator pass_integrator(pass_shading.setup, pass_shading.params);
             // --layers: one integrator per layer, on the pass's photons and radii.
-            std::vector<ShadingSetup> layer_setups(layer_sums_.size(), pass_shading.setup);
             std::vector<ProgressiveIntegrator> layer_integrators;
             std::vector<AccumulatedLayer> layer_targets;
-            layer_integrators.reserve(layer_sums_.size());
+            layer_integrators.reserve(layer_sums_.size());  // the targets point into it
             for (std::size_t l = 0; l < layer_sums_.size(); ++l) {
-                layer_setups[l].layer = written_layers[l];
-                layer_integrators.emplace_back(layer_setups[l], pass_shading.params);
-            }
-            for (std::size_t l = 0; l < layer_sums_.size(); ++l)
+                ShadingSetup layer_setup = pass_shading.setup;  // the integrator keeps its own copy
+                layer_setup.layer = written_layers[l];
+                layer_integrators.emplace_back(layer_setup, pass_shading.params);
                 layer_targets.push_back({&layer_integrators[l], &layer_sums_[l]});
+            }
             const std::vector<AccumulatedLayer>* const layer_list = layer_targets.empty() ? nullptr : &layer_targets;
             TileContext pass_context = context;
             pass_context.integrator = &pass_integrator;

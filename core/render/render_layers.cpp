@@ -7,8 +7,7 @@ namespace caustica {
 std::string layers_refusal(const Options& o, const std::string& path) {
     if (image_format_of(path) != ImageFormat::exr)
         return "--layers: '" + path + "': layers need an OpenEXR output (.exr); PNG and PFM hold one image";
-    if (o.draw_aa || o.draw_caustic_map || o.show_projection_map || o.draw_caustics_only || o.draw_gi_map ||
-        o.draw_gi_only || o.show_layer != ShadingLayer::beauty)
+    if (o.debug_view() || o.show_layer != ShadingLayer::beauty)
         return "--layers: a debug view (--draw-aa, --draw-caustic-map, --show-projection-map, --draw-caustics-only, "
                "--draw-gi-map, --draw-gi-only, --show-layer) replaces the shading the layers split: drop it";
     return {};

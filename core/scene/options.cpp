@@ -559,9 +559,7 @@ void check_render_stop_rules(const Options& options) {
 }
 
 void check_shown_layer(const Options& o) {
-    if (o.show_layer == ShadingLayer::beauty) return;
-    if (o.draw_aa || o.draw_caustic_map || o.show_projection_map || o.draw_caustics_only || o.draw_gi_map ||
-        o.draw_gi_only)
+    if (o.show_layer != ShadingLayer::beauty && o.debug_view())
         throw InputError("--show-layer: a debug view (--draw-aa, --draw-caustic-map, --show-projection-map, "
                          "--draw-caustics-only, --draw-gi-map, --draw-gi-only) replaces the shading the layer is "
                          "part of: drop one of them");

@@ -96,6 +96,11 @@ struct Options {
     /// The renderer's memory budget in bytes: --render-memory, or default_render_memory_bytes().
     double render_memory_bytes() const;
 
+    /// Whether a debug view replaces the shading (--draw-aa, --draw-caustic-map,
+    /// --show-projection-map, --draw-caustics-only, --draw-gi-map, --draw-gi-only).
+    bool debug_view() const {
+        return draw_aa || draw_caustic_map || show_projection_map || draw_caustics_only || draw_gi_map || draw_gi_only;
+    }
     /// Whether the GI photon map is wanted (--gi or one of its debug views).
     bool gi_wanted() const { return gi || draw_gi_map || draw_gi_only; }
     /// The pass limit in effect (0 = none): --passes when given (or set to anything but 1); else

@@ -3,15 +3,11 @@
 // animation, stop together with the failing rank's message (a rank given another command than
 // `render` included), and stop together on Ctrl-C with nothing written. Skipped, saying why, where
 // caustica was built without MPI.
+#include "tests/exr_channels.h"
 #include "tests/run_command.h"
 #include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>
-
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfInputFile.h>
 
 #include <algorithm>
 #include <chrono>
@@ -179,23 +175,6 @@ TEST_F(Mpi, MoreFramesThanRanksAreSharedAsWholeFrames) {
     EXPECT_NE(read("shared-0001.pfm"), read("shared-0002.pfm"));  // the camera did turn
 }
 
-/// Every channel of an OpenEXR file by name, as floats.
-std::map<std::string, std::vector<float>> exr_channels(const fs::path& path) {
-    Imf::InputFile file(path.c_str());
-    const Imath::Box2i window = file.header().dataWindow();
-    const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
-    std::map<std::string, std::vector<float>> channels;
-    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
-        channels[it.name()].resize(static_cast<std::size_t>(width) * height);
-    Imf::FrameBuffer frame;
-    for (auto& [name, values] : channels)
-        frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(values.data()), sizeof(float),
-                                      sizeof(float) * width));
-    file.setFrameBuffer(frame);
-    file.readPixels(window.min.y, window.max.y);
-    return channels;
-}
-
 TEST_F(Mpi, LayersComeBackWithTheTilesAsOneProcesssLayers) {
     // One image pass with anti-aliasing: the layers' first pass goes to every rank with the image's.
     const std::string args = "'" + box + "' --reproducible --lores --caustic-num-photons 100000 --layers --exr-pixel float";
@@ -203,7 +182,8 @@ TEST_F(Mpi, LayersComeBackWithTheTilesAsOneProcesssLayers) {
     ASSERT_EQ(alone.code, 0) << alone.output;
     const CommandResult shared = render(args + " -o shared.exr", 2);
     ASSERT_EQ(shared.code, 0) << shared.output;
-    const auto one = exr_channels(dir_ / "alone.exr"), two = exr_channels(dir_ / "shared.exr");
+    const auto one = caustica::testing::read_exr_channels((dir_ / "alone.exr").string()),
+               two = caustica::testing::read_exr_channels((dir_ / "shared.exr").string());
     EXPECT_EQ(one.size(), 22u);
     EXPECT_TRUE(one == two) << "two processes' layers differ from one's";
     float brightest_caustic = 0.0f;

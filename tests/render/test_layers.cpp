@@ -4,17 +4,13 @@
 #include "core/io/image_io.h"
 #include "core/render/render_layers.h"
 #include "core/render/render_session.h"
+#include "tests/exr_channels.h"
 #include "tests/scene_test_helpers.h"
 #include "tests/temp_folder.h"
 #include "tests/test_support.h"
 #include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>
-
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfInputFile.h>
 
 #include <algorithm>
 #include <chrono>
@@ -185,24 +181,6 @@ TEST(Layers, WithoutTheOptionNoLayerIsRendered) {
     EXPECT_TRUE(render_with_layers(job).layers.empty());
 }
 
-/// Reads the float channels of an OpenEXR file by name.
-std::map<std::string, std::vector<float>> read_channels(const std::string& path, int& width, int& height) {
-    Imf::InputFile file(path.c_str());
-    const Imath::Box2i window = file.header().dataWindow();
-    width = window.max.x - window.min.x + 1;
-    height = window.max.y - window.min.y + 1;
-    std::map<std::string, std::vector<float>> channels;
-    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
-        channels[it.name()].resize(static_cast<std::size_t>(width) * height);
-    Imf::FrameBuffer frame;
-    for (auto& [name, values] : channels)
-        frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(values.data()), sizeof(float),
-                                      sizeof(float) * width));
-    file.setFrameBuffer(frame);
-    file.readPixels(window.min.y, window.max.y);
-    return channels;
-}
-
 TEST(Layers, TheMultilayerExrHoldsEveryLayerByNameAndTheySum) {
     const Rendered r = render_with_layers(every_kind_of_light(""));
     testing::TempFolder folder;
@@ -211,7 +189,7 @@ TEST(Layers, TheMultilayerExrHoldsEveryLayerByNameAndTheySum) {
     write_exr_channels_atomic(path, r.image.width, r.image.height, layer_channels(r.image, r.layers, 1.0f, scaled),
                               ExrPixel::float32, {{"caustica:integrator", "classic"}});
     int width = 0, height = 0;
-    const std::map<std::string, std::vector<float>> channels = read_channels(path, width, height);
+    const std::map<std::string, std::vector<float>> channels = testing::read_exr_channels(path, width, height);
     ASSERT_EQ(width, r.image.width);
     ASSERT_EQ(height, r.image.height);
     std::vector<std::string> names;
