@@ -1,6 +1,8 @@
 #include "core/integrators/progressive_accumulator.h"
 
 #include "core/render/image_error.h"
+#include "core/util/huge_pages.h"
+#include "core/util/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -93,6 +95,10 @@ void ProgressiveAccumulator::reset(int width, int height) {
     width_ = width;
     height_ = height;
     const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    if (sums_.capacity() < pixels * sums_per_pixel) {
+        sums_ = {};
+        reserve_huge(sums_, pixels * sums_per_pixel);
+    }
     sums_.assign(pixels * sums_per_pixel, 0);
 }
 
@@ -154,9 +160,23 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
     auto rendered = [&](std::size_t i) {
         return region_rendered.renders(static_cast<int>(i % width), static_cast<int>(i / width));
     };
+    // In fixed chunks of pixels, in parallel, each chunk's sums added in chunk order: the same
+    // bits for any thread count (the sums are a frame's worth of memory, read once per pass).
+    constexpr std::size_t chunk = 16384;
+    const std::size_t chunks = (pixels + chunk - 1) / chunk;
+    auto for_chunks = [&](auto&& body) {
+        caustica::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t c = r.begin(); c != r.end(); ++c) body(c, c * chunk, std::min(pixels, (c + 1) * chunk));
+        });
+    };
+    std::vector<std::vector<double>> lit_parts(chunks);
+    for_chunks([&](std::size_t c, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i)
+            if (rendered(i) && at(i, photon) > 0.0) lit_parts[c].push_back(at(i, photon) / at(i, count_slot));
+    });
     std::vector<double> lit;
-    for (std::size_t i = 0; i < pixels; ++i)
-        if (rendered(i) && at(i, photon) > 0.0) lit.push_back(at(i, photon) / at(i, count_slot));
+    for (const std::vector<double>& part : lit_parts) lit.insert(lit.end(), part.begin(), part.end());
+    lit_parts = {};
     // Without photons (nothing specular, no --gi) the whole image is the region: its noise is
     // the eye side's (anti-aliasing, soft shadows).
     double threshold = -1.0;
@@ -173,69 +193,83 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
     // 3) the spread between all the passes, as if they were independent. The blur in both
     // cases from the radius probe: its mean squared, less its own variance (from its groups'
     // spread likewise). Summed over the region both are unbiased; a pixel's term may be negative.
-    bool groups = true;
-    double noise2 = 0.0, bias2_sum = 0.0, shown = 0.0;
-    std::size_t region = 0;
-    auto pass_region = [&](auto&& add_pixel) {
-        for (std::size_t i = 0; i < pixels; ++i) {
-            const double n = at(i, count_slot);
-            if (n < 2.0 || !rendered(i)) continue;
-            if (!(at(i, photon) / n >= threshold)) continue;
-            add_pixel(i, n);
-        }
+    // Each chunk sums the terms both ways, and whether every pixel had its groups decides which.
+    struct Terms {
+        double noise2 = 0.0, bias2 = 0.0;
     };
-    pass_region([&](std::size_t i, double n) {
-        double counts = n;
-        for (int g = 0; g < replicate_groups - 1; ++g) {
-            counts -= at(i, group_count + static_cast<std::size_t>(g));
-            if (at(i, group_count + static_cast<std::size_t>(g)) < 1.0) groups = false;
-        }
-        if (counts < 1.0) groups = false;
-    });
+    struct Part {
+        bool groups = true;
+        double shown = 0.0;
+        std::size_t region = 0;
+        Terms from_groups, from_passes;
+    };
+    std::vector<Part> parts(chunks);
     // A pixel's terms, from its raw mean v, the variance of v, the probe's mean blur and its
     // variance. The shown value cannot be wrong by more than the way to 0 or to 1: a pixel that
     // holds a spot far above 1 has a huge spread and at most that error.
-    auto add_pixel_terms = [&](double v, double noise_var, double blur, double blur_var) {
+    auto add_pixel_terms = [](Terms& t, double v, double noise_var, double blur, double blur_var) {
         const double pixel = std::clamp(v, 0.0, 1.0), bound = std::max(pixel, 1.0 - pixel);
-        noise2 += std::min(shown_variance(v, noise_var), bound * bound);
-        bias2_sum += std::clamp(shown_blur2(v, blur, blur_var), -bound * bound, bound * bound);
+        t.noise2 += std::min(shown_variance(v, noise_var), bound * bound);
+        t.bias2 += std::clamp(shown_blur2(v, blur, blur_var), -bound * bound, bound * bound);
     };
-    if (groups) {
-        pass_region([&](std::size_t i, double n) {
-            ++region;
-            double m[replicate_groups], b[replicate_groups], last_count = n;
-            for (int g = 0; g < replicate_groups; ++g) {
-                const double count = g < replicate_groups - 1 ? at(i, group_count + static_cast<std::size_t>(g)) : last_count;
-                if (g < replicate_groups - 1) last_count -= count;
-                m[g] = at(i, group_value + static_cast<std::size_t>(g)) / stat_unit / count;
-                b[g] = at(i, group_bias + static_cast<std::size_t>(g)) / stat_unit / count;
-            }
+    for_chunks([&](std::size_t c, std::size_t begin, std::size_t end) {
+        Part& part = parts[c];
+        for (std::size_t i = begin; i < end; ++i) {
+            const double n = at(i, count_slot);
+            if (n < 2.0 || !rendered(i)) continue;
+            if (!(at(i, photon) / n >= threshold)) continue;
+            ++part.region;
             const double v = at(i, value) / stat_unit / n;
-            shown += std::clamp(v, 0.0, 1.0);
-            const double mm = 0.25 * (m[0] + m[1] + m[2] + m[3]), bm = 0.25 * (b[0] + b[1] + b[2] + b[3]);
-            double spread = 0.0, bias_spread = 0.0;
+            part.shown += std::clamp(v, 0.0, 1.0);
+            // From the groups, where every group has passes.
+            double counts[replicate_groups], last_count = n;
+            bool grouped = true;
             for (int g = 0; g < replicate_groups; ++g) {
-                spread += (m[g] - mm) * (m[g] - mm);
-                bias_spread += (b[g] - bm) * (b[g] - bm);
+                counts[g] = g < replicate_groups - 1 ? at(i, group_count + static_cast<std::size_t>(g)) : last_count;
+                if (g < replicate_groups - 1) last_count -= counts[g];
+                if (counts[g] < 1.0) grouped = false;
             }
-            // Every group surely above 1 shows white, as the converged value most likely does.
-            if (*std::min_element(m, m + replicate_groups) >= 1.0) return;
-            add_pixel_terms(v, spread / 12.0, at(i, bias) / stat_unit / n, bias_spread / 12.0);
-        });
-    } else {
-        pass_region([&](std::size_t i, double n) {
-            ++region;
+            if (!grouped) {
+                part.groups = false;
+            } else if (part.groups) {
+                double m[replicate_groups], b[replicate_groups];
+                for (int g = 0; g < replicate_groups; ++g) {
+                    m[g] = at(i, group_value + static_cast<std::size_t>(g)) / stat_unit / counts[g];
+                    b[g] = at(i, group_bias + static_cast<std::size_t>(g)) / stat_unit / counts[g];
+                }
+                const double mm = 0.25 * (m[0] + m[1] + m[2] + m[3]), bm = 0.25 * (b[0] + b[1] + b[2] + b[3]);
+                double spread = 0.0, bias_spread = 0.0;
+                for (int g = 0; g < replicate_groups; ++g) {
+                    spread += (m[g] - mm) * (m[g] - mm);
+                    bias_spread += (b[g] - bm) * (b[g] - bm);
+                }
+                // Every group surely above 1 shows white, as the converged value most likely does.
+                if (*std::min_element(m, m + replicate_groups) < 1.0)
+                    add_pixel_terms(part.from_groups, v, spread / 12.0, at(i, bias) / stat_unit / n, bias_spread / 12.0);
+            }
+            // From all the passes, as if they were independent: variances of the means of n
+            // passes, exact from the integer sums.
             const std::int64_t* sum = &sums_[i * sums_per_pixel];
-            const double v = at(i, Slot::value) / stat_unit / n;
-            // Variances of the means of n passes, exact from the integer sums.
             const double noise_var = variance_of_mean(n, sum[Slot::value], sum[value2_high], sum[value2_low]);
             const double bias_mean = at(i, bias) / stat_unit / n;
             const double bias_noise_var = variance_of_mean(n, sum[bias], sum[bias2_high], sum[bias2_low]);
-            shown += std::clamp(v, 0.0, 1.0);
             // A pixel surely above 1 shows white, as its converged value most likely does.
-            if (v - 2.0 * std::sqrt(noise_var) >= 1.0) return;
-            add_pixel_terms(v, noise_var, bias_mean, bias_noise_var);
-        });
+            if (v - 2.0 * std::sqrt(noise_var) < 1.0) add_pixel_terms(part.from_passes, v, noise_var, bias_mean, bias_noise_var);
+        }
+    });
+    bool groups = true;
+    double shown = 0.0;
+    std::size_t region = 0;
+    for (const Part& part : parts) {
+        groups = groups && part.groups;
+        shown += part.shown;
+        region += part.region;
+    }
+    double noise2 = 0.0, bias2_sum = 0.0;
+    for (const Part& part : parts) {
+        const Terms& t = groups ? part.from_groups : part.from_passes;
+        noise2 += t.noise2;
+        bias2_sum += t.bias2;
     }
     if (region == 0 || !(shown > 0.0)) return e;
     const double mean = shown / static_cast<double>(region);

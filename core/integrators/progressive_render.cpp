@@ -409,6 +409,12 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     double last_round_seconds = 0.0, radius_log_before = 0.0, grid_seconds = 0.0;
     std::uint64_t radius_samples_before = 0;
     int next_error_check = 0;  // shared: the round whose end estimates the error (with --target-error)
+    // Alone, the estimate reads every pixel's sums: after every pass for --target-error and for
+    // the first 8 passes (it is known from the second), later when a quarter second and ten
+    // times its own cost have passed since the last (what the progress line and the preview
+    // show), and once more at the end if passes came after it.
+    double next_estimate_at = 0.0;
+    bool estimate_stale = false;
     std::string stopped_by = "passes";
     for (int round = 0;; ++round) {
         const int base = acc.next_pass;
@@ -511,7 +517,13 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         acc.next_pass = limit > 0 ? std::min(limit, round_end) : round_end;
         acc.photons_emitted += round_photons;
         if (!shared) {
-            acc.error = accumulator_.estimate_error(region);
+            const double start = now_seconds();
+            estimate_stale = options.target_error <= 0.0 && acc.next_pass > 8 && start < next_estimate_at;
+            if (!estimate_stale) {
+                acc.error = accumulator_.estimate_error(region);
+                const double end = now_seconds();
+                next_estimate_at = end + std::max(0.25, 10.0 * (end - start));
+            }
         } else if (options.target_error > 0.0 && round >= next_error_check) {
             // Adding every rank's sums costs time (116 bytes a pixel through the network): every
             // round up to 256 K pixels, every 4th at a megapixel, every 32nd at 4K, at most every
@@ -562,8 +574,10 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             publish_means(host, accumulator_, image);
         }
     }
+    if (estimate_stale) acc.error = accumulator_.estimate_error(region);
     acc.seconds = seconds_before + (now_seconds() - segment_start);
     host.report([&](SessionProgress& progress, RenderStats& stats) {
+        if (estimate_stale) progress.error = acc.error;
         progress.stopped_by = stopped_by;
         progress.accumulated_seconds = acc.seconds;
         if (shared) progress.error = acc.error;  // from every rank's sums (one process's: the last pass's)

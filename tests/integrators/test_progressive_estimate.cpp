@@ -11,6 +11,7 @@
 #include "core/util/sanitized.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -118,4 +119,54 @@ TEST(ProgressiveEstimate, GroupSumsAreExactWhateverTheOrderAndSplit) {
     EXPECT_TRUE(a.from_groups);
     EXPECT_GT(a.noise, 0.0);
     EXPECT_EQ(a.relative, b.relative);
+}
+
+// The estimate reads the image in chunks, in parallel: the same bits on one thread or two, and the
+// replicate groups serve only if every pixel of the region, in every chunk, has passes in each.
+TEST(ProgressiveEstimate, SameBitsOnAnyThreadCountAndGroupsOnlyWhenEveryPixelHasThem) {
+    const int w = 256, h = 192;  // several of the estimate's chunks
+    auto sample = [](std::size_t pixel, int pass) {
+        PassSample s;
+        const std::uint64_t k = (pixel * 2654435761u + static_cast<std::uint64_t>(pass) * 40503u) % 10007u;
+        const double x = 0.02 + 0.6 * static_cast<double>(k) / 10007.0;
+        s.colour = glm::vec3(static_cast<float>(x));
+        s.photon = (pixel % 7 == 0) ? 0.0 : x;  // some pixels outside the caustic region
+        s.photon_inner = 0.9 * s.photon;
+        s.group = pass % replicate_groups;
+        return s;
+    };
+    ProgressiveAccumulator full, partial;
+    full.reset(w, h);
+    partial.reset(w, h);
+    const std::size_t pixels = static_cast<std::size_t>(w) * h;
+    for (int p = 0; p < 6; ++p)
+        for (std::size_t i = 0; i < pixels; ++i) {
+            full.add(i, sample(i, p));
+            // The last pixel's passes all in group 0: one pixel without its groups.
+            PassSample s = sample(i, p);
+            if (i == pixels - 1) s.group = 0;
+            partial.add(i, s);
+        }
+    auto on_threads = [](const ProgressiveAccumulator& a, int threads) {
+        tbb::task_arena arena(threads);
+        ErrorEstimate e;
+        arena.execute([&] { e = a.estimate_error(); });
+        return e;
+    };
+    const ErrorEstimate one = on_threads(full, 1), two = on_threads(full, 2);
+    ASSERT_TRUE(one.known);
+    EXPECT_TRUE(one.from_groups);
+    EXPECT_EQ(one.relative, two.relative);
+    EXPECT_EQ(one.noise, two.noise);
+    EXPECT_EQ(one.bias, two.bias);
+    EXPECT_EQ(one.region_pixels, two.region_pixels);
+    EXPECT_GT(one.region_pixels, pixels / 2);
+    EXPECT_LT(one.region_pixels, pixels);
+
+    const ErrorEstimate p1 = on_threads(partial, 1), p2 = on_threads(partial, 2);
+    ASSERT_TRUE(p1.known);
+    EXPECT_FALSE(p1.from_groups);  // one pixel in the last chunk decides for the whole image
+    EXPECT_EQ(p1.relative, p2.relative);
+    EXPECT_EQ(p1.region_pixels, one.region_pixels);
+    EXPECT_NE(p1.noise, one.noise);
 }
