@@ -30,8 +30,11 @@
 # caustica's curve is time-limited by default (PP_CURVE=time: --passes 0 --time T for T in
 # PP_TIMES, 1 2 5 15 60) or one of accumulated passes (PP_CURVE=passes: --passes N for N in
 # PASSES, --time 1e6); PP_PHOTONS directions a pass (default 3e6, 2e7 for the glass of liquid),
-# PP_NEIGHBOURS (8) for the first radius, jittered samples (no --disable-aa); its own
-# pixel-averaged reference is PP_REF_PASSES passes of PP_REF_PHOTONS. Cycles (<scene>_cycles.py,
+# PP_NEIGHBOURS (8; no longer what sets the first radius), PP_RADIUS its first radius in pixel
+# footprints (--accumulation-radius; empty: the default), jittered samples (no --disable-aa); its own
+# pixel-averaged reference is PP_REF_PASSES (512) passes of PP_REF_PHOTONS from a first radius of
+# PP_REF_RADIUS (1) pixel footprints, a third of the default's blur at sharp edges (its own estimated
+# error is in the report: errors below it are not measurable). Cycles (<scene>_cycles.py,
 # cycles_common.py): CPU, THREADS threads, path tracing with shadow caustics (MNEE, mode "mnee")
 # and without ("path"), time-limited to each of CYCLES_TIMES (1 2 5 15 60) seconds; its
 # references (one per mode, CYCLES_REF_TIME = 600 s of sampling) are made when missing or out of
@@ -65,8 +68,10 @@ pp_curve=${PP_CURVE:-time}
 pp_times=${PP_TIMES:-"1 2 5 15 60"}
 pp_photons=${PP_PHOTONS:-}
 pp_neighbours=${PP_NEIGHBOURS:-8}
-pp_ref_passes=${PP_REF_PASSES:-256}
+pp_ref_passes=${PP_REF_PASSES:-512}
 pp_ref_photons=${PP_REF_PHOTONS:-30000000}
+pp_ref_radius=${PP_REF_RADIUS:-1}
+pp_radius=${PP_RADIUS:-}
 cycles=${CYCLES:-1}
 blender=${BLENDER:-blender}
 cycles_modes=${CYCLES_MODES:-"mnee path"}
@@ -150,13 +155,17 @@ povray_run() {
 # Photon directions a progressive pass shoots when PP_PHOTONS is not set: the glass of liquid's
 # cup covers ~0.45% of the lamp's sphere (the glass sphere and the ring ~1%), so it gets more.
 declare -A scene_pp_photons=([glass_sphere]=3000000 [ring]=3000000 [glass_of_liquid]=20000000)
-# caustica_passes SCENE PASSES DIRECTIONS PNG: one progressive accumulation; PNG.log and PNG.time.
+# caustica_passes SCENE PASSES DIRECTIONS PNG [RADIUS]: one progressive accumulation (RADIUS: its first
+# radius in pixel footprints); PNG.log and PNG.time.
 # (--time 1e6, never reached, makes --passes 1 an accumulation's first pass rather than the single
 # k-nearest pass.)
 caustica_passes() {
   wall "$4.time" "$4.log" "$build/caustica" render -S --integrator progressive --threads "$threads" "${resolution_flag[$size]}" \
-    --passes "$2" --time 1e6 --caustic-num-photons "$3" --caustic-num-neighbours "$pp_neighbours" "$here/$1.lua" -o "$4"
+    --passes "$2" --time 1e6 --caustic-num-photons "$3" --caustic-num-neighbours "$pp_neighbours" \
+    ${5:+--accumulation-radius "$5"} "$here/$1.lua" -o "$4"
 }
+# The error caustica estimates for its own render (-S), from its log.
+caustica_estimate() { sed -n 's/^ *estimated error *\([0-9.]*\).*/\1/p' "$1.log" | head -1; }
 # Seconds of an accumulation's photon stages and passes (caustica -S), without the scene build.
 caustica_pass_stages() {
   awk '/time: (projection maps|photon shooting|photon k-d tree|photon passes|progressive passes)/ { s += $(NF-1) }
@@ -166,7 +175,8 @@ caustica_pass_stages() {
 # (--passes 0: passes until --time); PNG.log and PNG.time.
 caustica_timed() {
   wall "$4.time" "$4.log" "$build/caustica" render -S --integrator progressive --threads "$threads" "${resolution_flag[$size]}" \
-    --passes 0 --time "$2" --caustic-num-photons "$3" --caustic-num-neighbours "$pp_neighbours" "$here/$1.lua" -o "$4"
+    --passes 0 --time "$2" --caustic-num-photons "$3" --caustic-num-neighbours "$pp_neighbours" \
+    ${pp_radius:+--accumulation-radius "$pp_radius"} "$here/$1.lua" -o "$4"
 }
 caustica_passes_done() { sed -n 's/^ *progressive passes *\([0-9]*\).*/\1/p' "$1.log" | head -1; }
 # cycles_run SCENE MODE SECONDS SEED PREFIX: one Cycles render of SECONDS of sampling (its time
@@ -429,11 +439,12 @@ measure_progressive() {
     prepare_scene "$scene"
     local ours_ref=$out/$scene-progressive-ref.png pov_ref=$out/$scene-povray-pref.png m
     local photons=${pp_photons:-${scene_pp_photons[$scene]}}
-    caustica_passes "$scene" "$pp_ref_passes" "$pp_ref_photons" "$ours_ref"
+    caustica_passes "$scene" "$pp_ref_passes" "$pp_ref_photons" "$ours_ref" "$pp_ref_radius"
     povray_run "$scene" "$(awk -v t="$reference" -v r="$pov_ratio" 'BEGIN { printf "%d", t / r }')" "$pov_ref"
     echo "   references: caustica $pp_ref_passes passes in $(cat "$ours_ref.time") s, POV-Ray $(povray_stored "$pov_ref") stored in $(cat "$pov_ref.time") s"
     for m in $cycles_modes; do cycles_reference "$scene" "$m"; done
-    ref_row "$scene" caustica "$ours_ref" "$pp_ref_passes passes of $pp_ref_photons directions"
+    ref_row "$scene" caustica "$ours_ref" \
+      "$pp_ref_passes passes of $pp_ref_photons directions, r₁ $pp_ref_radius, own estimated error $(caustica_estimate "$ours_ref")"
     ref_row "$scene" povray "$pov_ref" "$(povray_stored "$pov_ref") stored photons"
     for m in $cycles_modes; do
       ref_row "$scene" "cycles-$m" "$(cycles_ref "$scene" "$m").png" \
@@ -461,7 +472,7 @@ measure_progressive() {
         if ((k < ${#ours_levels[@]})); then
           png=$out/$scene-progressive-${ours_levels[k]}.png
           if [[ $pp_curve == passes ]]; then
-            caustica_passes "$scene" "${ours_levels[k]}" "$photons" "$png"
+            caustica_passes "$scene" "${ours_levels[k]}" "$photons" "$png" "$pp_radius"
           else
             png=$out/$scene-progressive-${ours_levels[k]}s.png
             caustica_timed "$scene" "${ours_levels[k]}" "$photons" "$png"
@@ -514,7 +525,8 @@ measure_progressive() {
     echo "- POV-Ray 3.7: $neighbours photons per estimate within $pov_radius, levels of stored photons $levels;" \
          "reference $reference stored."
     echo "- caustica: progressive integrator, $caustica_curve, ${pp_photons:-3e6 (2e7 for glass_of_liquid)}" \
-         "directions a pass, N $pp_neighbours; reference $pp_ref_passes passes of $pp_ref_photons."
+         "directions a pass, N $pp_neighbours, first radius ${pp_radius:-3 (the default)} pixel footprints; reference $pp_ref_passes passes of $pp_ref_photons from a first radius" \
+         "of $pp_ref_radius pixel footprints."
     if [[ -n $cycles_modes ]]; then
       echo "- Cycles ($blender_version): CPU, $threads threads, box filter of one pixel, no denoising, no" \
            "clamping, point light of radius $cycles_lamp_radius, time limits $cycles_times s;" \
