@@ -2,7 +2,6 @@
 
 #include "core/util/cancel_flag.h"
 #include "core/util/denormals.h"
-#include "core/util/huge_pages.h"
 #include "core/shading/medium_stack.h"
 #include "core/shading/optics.h"
 #include "core/util/radiance_range.h"
@@ -405,9 +404,6 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
             });
         }
         report.candidates = count;
-        std::size_t total = result.photons.size();
-        for (const std::vector<Photon>& block : stored) total += block.size();
-        reserve_huge(result.photons, total);  // one copy of each photon, into memory touched once
         for (std::size_t b = 0; b < stored.size(); ++b) {
             report.traced += traced[b];
             report.stored += static_cast<long long>(stored[b].size());

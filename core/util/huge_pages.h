@@ -10,6 +10,10 @@ namespace caustica {
 /// pages (Linux in THP "madvise" mode; elsewhere, or where it is refused, nothing changes). A buffer
 /// of a frame's size touched for the first time then faults in 2 MiB at a time rather than 4 KiB,
 /// which matters where page faults are slow (docs/PERFORMANCE.md, "Progressive photon mapping").
+/// Only buffers of at least huge_page_min_bytes are advised: glibc maps those on their own pages
+/// (its mmap threshold rises to 32 MiB at most) and unmaps them when freed, where advice on a
+/// smaller heap block would outlive it.
+inline constexpr std::size_t huge_page_min_bytes = std::size_t{32} << 20;
 void advise_huge_pages(void* data, std::size_t bytes);
 
 /// v.reserve(n), the new memory advised for huge pages, when n elements are more than it holds.

@@ -156,6 +156,7 @@ TEST(ProgressiveEstimate, SameBitsOnAnyThreadCountAndGroupsOnlyWhenEveryPixelHas
     const ErrorEstimate one = on_threads(full, 1), two = on_threads(full, 2);
     ASSERT_TRUE(one.known);
     EXPECT_TRUE(one.from_groups);
+    EXPECT_GT(one.noise, 0.0);
     EXPECT_EQ(one.relative, two.relative);
     EXPECT_EQ(one.noise, two.noise);
     EXPECT_EQ(one.bias, two.bias);
@@ -169,4 +170,41 @@ TEST(ProgressiveEstimate, SameBitsOnAnyThreadCountAndGroupsOnlyWhenEveryPixelHas
     EXPECT_EQ(p1.relative, p2.relative);
     EXPECT_EQ(p1.region_pixels, one.region_pixels);
     EXPECT_NE(p1.noise, one.noise);
+}
+
+// A pixel that surely shows white counts no error, however its samples spread: with the groups,
+// when every group's mean is at least 1; before them, when its mean is 2 standard errors above 1.
+// The same spreads scaled into [0, 1] do count.
+TEST(ProgressiveEstimate, APixelThatSurelyShowsWhiteCountsNoError) {
+    const int w = 64;
+    auto accumulate = [&](int passes, double scale, auto&& value) {
+        ProgressiveAccumulator a;
+        a.reset(w, 1);
+        for (int p = 0; p < passes; ++p)
+            for (int i = 0; i < w; ++i) {
+                PassSample s;
+                const double x = scale * value(p);
+                s.colour = glm::vec3(static_cast<float>(x));
+                s.photon = x;
+                s.photon_inner = 0.9 * x;
+                s.group = p % replicate_groups;
+                a.add(static_cast<std::size_t>(i), s);
+            }
+        return a.estimate_error();
+    };
+    // Groups: three groups' means 1, the fourth's 5 (its shown value's spread is large).
+    auto grouped = [](int p) { return p % replicate_groups == 3 ? 5.0 : 1.0; };
+    const ErrorEstimate white = accumulate(8, 1.0, grouped), grey = accumulate(8, 0.1, grouped);
+    ASSERT_TRUE(white.known && grey.known);
+    EXPECT_TRUE(white.from_groups);
+    EXPECT_EQ(white.noise, 0.0);
+    EXPECT_EQ(white.bias, 0.0);
+    EXPECT_GT(grey.noise, 0.05);
+    // Two passes, no groups yet: 2.1 and 3.9, a mean of 3 with a standard error of 0.9.
+    auto two = [](int p) { return p == 0 ? 2.1 : 3.9; };
+    const ErrorEstimate high = accumulate(2, 1.0, two), low = accumulate(2, 0.2, two);
+    ASSERT_TRUE(high.known && low.known);
+    EXPECT_FALSE(high.from_groups);
+    EXPECT_EQ(high.noise, 0.0);
+    EXPECT_GT(low.noise, 0.05);
 }
