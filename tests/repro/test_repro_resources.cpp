@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
@@ -67,10 +68,16 @@ void expect_memory_error(const std::string& name, int line, double seconds, std:
     s.copy("exhaustion/" + name, name);
     Launch run;
     run.cwd = s.root();
-    run.args = {"render", "-s", name, "-o", "x.png"};
+    // The script's own time limit and the child's CPU limit past the test's wall limit (all scaled
+    // to this machine and build): on a slow machine under a sanitizer a fixed 60 s could stop the
+    // script before its memory does, and the time bound below is what this test asserts.
+    char script_seconds[32];
+    std::snprintf(script_seconds, sizeof script_seconds, "%g", std::ceil(2.0 * seconds * time_factor()) + 10.0);
+    run.args = {"render", "-s", "--script-timeout", script_seconds, name, "-o", "x.png"};
     if (budget_mib) run.args.insert(run.args.begin() + 1, {"--script-memory", std::to_string(budget_mib)});
     const std::size_t bound = budget_mib ? budget_mib * mib + 256 * mib : 2 * gib + 512 * mib;
     run.limits.wall_seconds = 2.0 * seconds * time_factor();
+    run.limits.cpu_seconds = std::max(run.limits.cpu_seconds, 2.0 * run.limits.wall_seconds);
     run.limits.address_space = roomy_address_space;
     run.limits.resident = rss_bound(bound + 512 * mib);
     const Outcome o = run_child(run);
