@@ -47,7 +47,7 @@ double fault_seconds(std::size_t bytes) {
 // The median of seven timings of calibration_work run on every CPU at once (as the renderer's
 // threads run, so that other processes busy on the cores count) against the same work's time on
 // the reference machine (about 15 ms), or, if that is larger, the median of three timings of
-// faulting in 16 MiB of fresh memory against 2 µs a page (an assumed reference: the suite's
+// faulting in 4 MiB of fresh memory against 2 µs a page (an assumed reference: the suite's
 // memory-heavy reproducers spend much of their time in page faults, which cost 11 µs each on some
 // virtual machines, where a gigabyte-sized reproducer under AddressSanitizer took 56 s against a
 // bound of 36), from 1 to 4 (beyond that the bounds would outlast ctest's own timeout).
@@ -76,7 +76,7 @@ double machine_factor() {
         static volatile std::uint64_t kept;
         for (std::uint64_t x : sinks) kept = kept + x;
         std::nth_element(seconds.begin(), seconds.begin() + 3, seconds.end());
-        constexpr std::size_t fault_bytes = std::size_t{16} << 20;
+        constexpr std::size_t fault_bytes = std::size_t{4} << 20;
         constexpr double reference_fault_seconds = 2e-6 * static_cast<double>(fault_bytes / 4096);
         double faults[3];
         for (double& f : faults) f = fault_seconds(fault_bytes);
