@@ -193,7 +193,8 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
     // 3) the spread between all the passes, as if they were independent. The blur in both
     // cases from the radius probe: its mean squared, less its own variance (from its groups'
     // spread likewise). Summed over the region both are unbiased; a pixel's term may be negative.
-    // Each chunk sums the terms both ways, and whether every pixel had its groups decides which.
+    // The chunks sum the groups' terms; if some pixel of the region lacks a group, a second read
+    // sums every pixel's terms from all its passes instead.
     struct Terms {
         double noise2 = 0.0, bias2 = 0.0;
     };
@@ -204,6 +205,8 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
         Terms from_groups, from_passes;
     };
     std::vector<Part> parts(chunks);
+    // Pixel i, of n passes, is in the caustic region the error is measured over.
+    auto in_region = [&](std::size_t i, double n) { return n >= 2.0 && rendered(i) && at(i, photon) / n >= threshold; };
     // A pixel's terms, from its raw mean v, the variance of v, the probe's mean blur and its
     // variance. The shown value cannot be wrong by more than the way to 0 or to 1: a pixel that
     // holds a spot far above 1 has a huge spread and at most that error.
@@ -216,12 +219,10 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
         Part& part = parts[c];
         for (std::size_t i = begin; i < end; ++i) {
             const double n = at(i, count_slot);
-            if (n < 2.0 || !rendered(i)) continue;
-            if (!(at(i, photon) / n >= threshold)) continue;
+            if (!in_region(i, n)) continue;
             ++part.region;
             const double v = at(i, value) / stat_unit / n;
             part.shown += std::clamp(v, 0.0, 1.0);
-            // From the groups, where every group has passes.
             double counts[replicate_groups], last_count = n;
             bool grouped = true;
             for (int g = 0; g < replicate_groups; ++g) {
@@ -247,14 +248,6 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
                 if (*std::min_element(m, m + replicate_groups) < 1.0)
                     add_pixel_terms(part.from_groups, v, spread / 12.0, at(i, bias) / stat_unit / n, bias_spread / 12.0);
             }
-            // From all the passes, as if they were independent: variances of the means of n
-            // passes, exact from the integer sums.
-            const std::int64_t* sum = &sums_[i * sums_per_pixel];
-            const double noise_var = variance_of_mean(n, sum[Slot::value], sum[value2_high], sum[value2_low]);
-            const double bias_mean = at(i, bias) / stat_unit / n;
-            const double bias_noise_var = variance_of_mean(n, sum[bias], sum[bias2_high], sum[bias2_low]);
-            // A pixel surely above 1 shows white, as its converged value most likely does.
-            if (v - 2.0 * std::sqrt(noise_var) < 1.0) add_pixel_terms(part.from_passes, v, noise_var, bias_mean, bias_noise_var);
         }
     });
     bool groups = true;
@@ -264,6 +257,25 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
         groups = groups && part.groups;
         shown += part.shown;
         region += part.region;
+    }
+    // Some pixel lacks a group (passes 2 and 3): every pixel's terms from all its passes, as if
+    // they were independent, with the variances of the means of n passes exact from the sums.
+    if (!groups) {
+        for_chunks([&](std::size_t c, std::size_t begin, std::size_t end) {
+            Part& part = parts[c];
+            for (std::size_t i = begin; i < end; ++i) {
+                const double n = at(i, count_slot);
+                if (!in_region(i, n)) continue;
+                const double v = at(i, value) / stat_unit / n;
+                const std::int64_t* sum = &sums_[i * sums_per_pixel];
+                const double noise_var = variance_of_mean(n, sum[Slot::value], sum[value2_high], sum[value2_low]);
+                const double bias_mean = at(i, bias) / stat_unit / n;
+                const double bias_noise_var = variance_of_mean(n, sum[bias], sum[bias2_high], sum[bias2_low]);
+                // A pixel surely above 1 shows white, as its converged value most likely does.
+                if (v - 2.0 * std::sqrt(noise_var) < 1.0)
+                    add_pixel_terms(part.from_passes, v, noise_var, bias_mean, bias_noise_var);
+            }
+        });
     }
     double noise2 = 0.0, bias2_sum = 0.0;
     for (const Part& part : parts) {
