@@ -31,7 +31,8 @@
 # PP_TIMES, 1 2 5 15 60) or one of accumulated passes (PP_CURVE=passes: --passes N for N in
 # PASSES, --time 1e6); PP_PHOTONS directions a pass (default 3e6, 2e7 for the glass of liquid),
 # PP_NEIGHBOURS (8; no longer what sets the first radius), PP_RADIUS its first radius in pixel
-# footprints (--accumulation-radius; empty: the default), jittered samples (no --disable-aa); its own
+# footprints (--accumulation-radius; empty: the default), PP_PER_PIXEL its --photons-per-pixel
+# (empty: the directions as given), jittered samples (no --disable-aa); its own
 # pixel-averaged reference is PP_REF_PASSES (512) passes of PP_REF_PHOTONS from a first radius of
 # PP_REF_RADIUS (1) pixel footprints, a third of the default's blur at sharp edges (its own estimated
 # error is in the report: errors below it are not measurable). Cycles (<scene>_cycles.py,
@@ -72,6 +73,7 @@ pp_ref_passes=${PP_REF_PASSES:-512}
 pp_ref_photons=${PP_REF_PHOTONS:-30000000}
 pp_ref_radius=${PP_REF_RADIUS:-1}
 pp_radius=${PP_RADIUS:-}
+pp_per_pixel=${PP_PER_PIXEL:-}
 cycles=${CYCLES:-1}
 blender=${BLENDER:-blender}
 cycles_modes=${CYCLES_MODES:-"mnee path"}
@@ -176,7 +178,8 @@ caustica_pass_stages() {
 caustica_timed() {
   wall "$4.time" "$4.log" "$build/caustica" render -S --integrator progressive --threads "$threads" "${resolution_flag[$size]}" \
     --passes 0 --time "$2" --caustic-num-photons "$3" --caustic-num-neighbours "$pp_neighbours" \
-    ${pp_radius:+--accumulation-radius "$pp_radius"} "$here/$1.lua" -o "$4"
+    ${pp_radius:+--accumulation-radius "$pp_radius"} ${pp_per_pixel:+--photons-per-pixel "$pp_per_pixel"} \
+    "$here/$1.lua" -o "$4"
 }
 caustica_passes_done() { sed -n 's/^ *progressive passes *\([0-9]*\).*/\1/p' "$1.log" | head -1; }
 # cycles_run SCENE MODE SECONDS SEED PREFIX: one Cycles render of SECONDS of sampling (its time
@@ -525,7 +528,7 @@ measure_progressive() {
     echo "- POV-Ray 3.7: $neighbours photons per estimate within $pov_radius, levels of stored photons $levels;" \
          "reference $reference stored."
     echo "- caustica: progressive integrator, $caustica_curve, ${pp_photons:-3e6 (2e7 for glass_of_liquid)}" \
-         "directions a pass, N $pp_neighbours, first radius ${pp_radius:-3 (the default)} pixel footprints; reference $pp_ref_passes passes of $pp_ref_photons from a first radius" \
+         "directions a pass${pp_per_pixel:+ raised to $pp_per_pixel traced photons per pixel (time curve)}, N $pp_neighbours, first radius ${pp_radius:-3 (the default)} pixel footprints; reference $pp_ref_passes passes of $pp_ref_photons from a first radius" \
          "of $pp_ref_radius pixel footprints."
     if [[ -n $cycles_modes ]]; then
       echo "- Cycles ($blender_version): CPU, $threads threads, box filter of one pixel, no denoising, no" \

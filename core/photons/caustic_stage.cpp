@@ -136,6 +136,9 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.pass = extras.pass;
     settings.max_depth = o.max_depth;
     settings.split = o.photon_split;
+    if (!lights.empty())
+        settings.min_traced_per_light = o.photons_per_pixel * static_cast<double>(job.width) *
+                                        static_cast<double>(job.height) / static_cast<double>(lights.size());
     settings.memory_budget_bytes = photon_memory_left(job, scene);
     settings.progress = extras.progress;
     if (extras.first) {  // a later pass: the first pass's projection maps, as it used them

@@ -250,7 +250,9 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
     PhotonPassResult result;
     result.maps.resize(lights.size());
     result.lights.resize(lights.size());
-    const long long count = settings.photons_per_light;
+    const long long given = settings.photons_per_light;
+    // The most directions a light's count may be raised to (--caustic-num-photons' own limit).
+    constexpr double max_directions = 1e11;
     double expected_photons = 0.0;  // over all lights: what the maps let through, at most stored
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const Light& light = lights[l];
@@ -265,8 +267,11 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         const bool automatic = settings.projection_map == ProjectionMapMode::automatic;
         const long long cells = 2LL * settings.projection_map_granularity * settings.projection_map_granularity;
         const bool prebuilt = !settings.prebuilt_maps.empty();
+        // Raised to the minimum traced even if nothing is rejected: what the map decision weighs.
+        const long long unmapped = std::max(given, static_cast<long long>(std::ceil(
+                                                       std::min(settings.min_traced_per_light, max_directions))));
         bool try_map = !prebuilt && !settings.global_illumination &&
-                       (settings.projection_map == ProjectionMapMode::on || (automatic && count > 2 * cells));
+                       (settings.projection_map == ProjectionMapMode::on || (automatic && unmapped > 2 * cells));
         const auto t_map = std::chrono::steady_clock::now();
         if (prebuilt && l < settings.prebuilt_maps.size() && settings.prebuilt_maps[l]) {
             result.maps[l] = *settings.prebuilt_maps[l];
@@ -288,9 +293,16 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         }
         report.map_seconds = seconds_since(t_map);
         const ProjectionMap* map = report.projection_map_used ? &result.maps[l] : nullptr;
+        // The directions of this light's pass: enough that min_traced_per_light are traced where
+        // the map lets only its occupied fraction through.
+        long long count = unmapped;
+        if (map && settings.min_traced_per_light > 0.0 && report.occupied_fraction > 0.0)
+            count = std::max(given, static_cast<long long>(std::ceil(std::min(
+                                        settings.min_traced_per_light / report.occupied_fraction, max_directions))));
         // Refuse before anything is allocated for photons; margin for the map's padding.
         expected_photons += static_cast<double>(count) * (map ? std::min(1.0, 1.1 * report.occupied_fraction) : 1.0);
-        check_photon_memory(expected_photons, count, settings.memory_budget_bytes);
+        check_photon_memory(expected_photons, count, settings.memory_budget_bytes,
+                            count > given ? "--photons-per-pixel raised --caustic-num-photons to" : "--caustic-num-photons");
         const auto t0 = std::chrono::steady_clock::now();
         const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
         const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;

@@ -41,6 +41,9 @@ struct PhotonPassSettings {
     /// Every path with at least one bounce is stored at each diffuse hit and continues by a
     /// Lambertian bounce (progressive --gi); no projection map. Otherwise caustic paths only.
     bool global_illumination = false;
+    /// At least this many photons traced a pass per light: the count is raised to this over the
+    /// fraction of directions the light's projection map lets through (0: the count as given).
+    double min_traced_per_light = 0.0;
     double memory_budget_bytes = 0.0;  ///< refuse passes whose photons could exceed this (0 = default_render_memory_bytes())
     /// Progressive passes after the first reuse its projection maps: one per light (null = none).
     /// Empty: each light's map is decided and built as usual.
@@ -51,7 +54,7 @@ struct PhotonPassSettings {
 
 /// What happened for one light.
 struct LightPhotonReport {
-    long long candidates = 0;     ///< directions considered (P)
+    long long candidates = 0;     ///< directions considered (P, raised by min_traced_per_light)
     long long traced = 0;         ///< photons actually traced (inside the projection map)
     long long stored = 0;
     bool projection_map_used = false;

@@ -318,6 +318,10 @@ const std::vector<OptionSpec>& option_table() {
                      "progressive: carry the specular weight at mirrors and glass and follow both the reflected and "
                      "the refracted photon, instead of Russian roulette",
                      &Options::photon_split, {{"on", true}, {"off", false}}).feeds(stage_photons),
+        real("photons-per-pixel", "caustics",
+             "progressive: shoot at least enough photon directions a pass that about this many photons per image "
+             "pixel are traced, shared by the lights (0: --caustic-num-photons as given)",
+             &Options::photons_per_pixel, 0.0, 1e3).feeds(stage_photons),
         choice<bool>("photon-emission", "ld|random", "caustics",
                      "photon directions: low-discrepancy (Hammersley) or random", &Options::photon_random_emission,
                      {{"ld", false}, {"random", true}}).feeds(stage_photons),

@@ -74,6 +74,9 @@ struct Options {
     bool photon_random_emission = false;  ///< independent random photon directions instead of low-discrepancy
     bool adaptive_radius = false;  ///< progressive: each pixel's radius balances its blur and noise
     bool photon_split = false;     ///< progressive: split photons at mirrors and glass instead of roulette
+    /// progressive: each pass shoots enough directions that about this many photons per image pixel
+    /// are traced, shared by the lights (0: the photon count as given)
+    double photons_per_pixel = 0.0;
     int max_depth = 8;             ///< recursion limit for reflection/refraction
     double min_weight = 1e-3;      ///< stop a ray path when its weight falls below this
     double script_timeout = 60.0;  ///< seconds of script evaluation, 0 = none

@@ -387,3 +387,88 @@ TEST(ProjectionMap, OccupiedFractionUsesTrueCellAreas) {
         for (int c = 0; c < map.columns(); ++c) map.set_cell(r, c, true);
     EXPECT_NEAR(map.occupied_fraction(), 0.5, 1e-9);  // the upper hemisphere
 }
+
+namespace {
+
+/// The summed power of a pass's stored photons (mean of the channels).
+double stored_power(const PhotonPassResult& r) {
+    double sum = 0.0;
+    for (const Photon& p : r.photons) sum += (static_cast<double>(p.power.x) + p.power.y + p.power.z) / 3.0;
+    return sum;
+}
+
+}  // namespace
+
+TEST(Photons, AMinimumTracedCountRaisesTheDirectionsAndKeepsTheEnergy) {
+    JobBuilder b = virtual_light_scene(false);
+    const RenderJob job = b.build();
+    const RenderScene scene(*job.scene, flatten_scene(*job.scene, job.root, false));
+    PhotonPassSettings settings;
+    settings.projection_map = ProjectionMapMode::on;
+    settings.photons_per_light = 200'000;
+    const PhotonPassResult given = shoot_caustic_photons(scene, job_lights(job), settings, nullptr);
+    const LightPhotonReport& g = given.lights[0];
+    ASSERT_TRUE(g.projection_map_used);
+    ASSERT_GT(g.occupied_fraction, 0.2);
+    ASSERT_LT(g.occupied_fraction, 0.9);  // the map rejects directions: the count must grow past the minimum
+    EXPECT_EQ(g.candidates, 200'000);
+
+    // 1 000 directions asked, 50 000 traced at least: the directions become 50 000 over the
+    // occupied fraction, every one of them traced (to the rounding of the cells' shares), and each
+    // photon carries the energy of one direction of the raised count, so the light's power is
+    // what 200 000 directions deliver (the roulette's noise at 45 000 stored photons: ~0.2%).
+    settings.photons_per_light = 1'000;
+    settings.min_traced_per_light = 50'000;
+    const PhotonPassResult raised = shoot_caustic_photons(scene, job_lights(job), settings, nullptr);
+    const LightPhotonReport& r = raised.lights[0];
+    EXPECT_EQ(r.candidates, static_cast<long long>(std::ceil(50'000 / r.occupied_fraction)));
+    EXPECT_GE(r.traced, 49'999);
+    EXPECT_LE(r.traced, 50'002);
+    EXPECT_NEAR(stored_power(raised) / stored_power(given), 1.0, 0.01);
+
+    // A count that already traces more is kept.
+    settings.photons_per_light = 200'000;
+    EXPECT_EQ(shoot_caustic_photons(scene, job_lights(job), settings, nullptr).lights[0].candidates, 200'000);
+
+    // Without a map every direction is traced: the minimum is the count.
+    settings.projection_map = ProjectionMapMode::off;
+    settings.photons_per_light = 1'000;
+    settings.min_traced_per_light = 30'000;
+    const PhotonPassResult unmapped = shoot_caustic_photons(scene, job_lights(job), settings, nullptr);
+    EXPECT_EQ(unmapped.lights[0].candidates, 30'000);
+    EXPECT_EQ(unmapped.lights[0].traced, 30'000);
+    EXPECT_NEAR(stored_power(unmapped) / stored_power(given), 1.0, 0.02);
+
+    // A raised count that could not fit is refused before anything is shot, naming the option
+    // that raised it.
+    settings.min_traced_per_light = 1e9;
+    settings.memory_budget_bytes = 64.0 * (1 << 20);
+    try {
+        shoot_caustic_photons(scene, job_lights(job), settings, nullptr);
+        FAIL() << "expected a refusal";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("--photons-per-pixel raised --caustic-num-photons to 1000000000:", 0), 0u)
+            << e.what();
+    }
+}
+
+TEST(Photons, PhotonsPerPixelSetTheTracedCountOfAProgressivePass) {
+    // --photons-per-pixel K: K photons per image pixel traced a pass, shared by the lights.
+    JobBuilder b = virtual_light_scene(false);
+    b.light({0.3, 1, 0}, {1, 1, 1}, {0, 0, 1});  // a second light: each traces half
+    b.job.options.integrator = IntegratorKind::progressive;
+    b.job.options.projection_map = ProjectionMapMode::on;
+    b.job.options.caustic_num_photons = 100;
+    b.job.options.photons_per_pixel = 3.0;
+    const RenderJob job = b.build();
+    const RenderScene scene(*job.scene, flatten_scene(*job.scene, job.root, false));
+    CausticStage stage;
+    build_progressive_pass(stage, scene, job, nullptr, PhotonPassExtras{});
+    ASSERT_EQ(stage.lights.size(), 2u);
+    const double each = 3.0 * job.width * job.height / 2.0;  // 3 456
+    for (const LightCausticStats& l : stage.lights) {
+        EXPECT_TRUE(l.projection_map_used);
+        EXPECT_GE(static_cast<double>(l.traced), each - 1.0);
+        EXPECT_LE(static_cast<double>(l.traced), each + 2.0);
+    }
+}
