@@ -39,6 +39,28 @@ struct CsgSegment {
 
 static_assert(std::is_trivially_copyable_v<CsgSegment> && std::is_trivially_destructible_v<CsgSegment>);
 
+/// Copies a crossing field by field. The sweeps build segments on the stack with narrow stores and
+/// then copy them; a whole-struct copy reads them back in 16-byte loads, which store forwarding
+/// cannot serve from the narrow stores just made (a stall of a dozen cycles each).
+inline void copy_crossing(CsgCrossing& to, const CsgCrossing& from) {
+    to.t = from.t;
+    to.normal.x = from.normal.x;
+    to.normal.y = from.normal.y;
+    to.normal.z = from.normal.z;
+    to.material = from.material;
+    to.leaf = from.leaf;
+    to.face = from.face;
+    to.mirrored = from.mirrored;
+    to.carved = from.carved;
+}
+
+/// copy_crossing for a whole segment.
+inline void copy_segment(CsgSegment& to, const CsgSegment& from) {
+    copy_crossing(to.enter, from.enter);
+    copy_crossing(to.leave, from.leave);
+    to.medium = from.medium;
+}
+
 /// A growable list of segments that keeps the first `inline_capacity` in place (no heap
 /// allocation in the common case: this runs per ray per CSG node) and moves to the heap beyond.
 class CsgSegmentList {
@@ -58,7 +80,13 @@ public:
     /// Appends a segment (callers keep the list sorted and disjoint).
     void push_back(const CsgSegment& s) {
         if (size_ == capacity_) grow();
-        data_[size_++] = s;
+        copy_segment(data_[size_++], s);
+    }
+    /// Appends a segment whose fields the caller then writes in place (its contents are
+    /// unspecified until then): no temporary to copy.
+    CsgSegment& append() {
+        if (size_ == capacity_) grow();
+        return data_[size_++];
     }
     /// Empties the list (keeps any heap storage).
     void clear() { size_ = 0; }

@@ -447,11 +447,20 @@ void CsgTree::leaf_segments(int leaf_index, const LineQuery& q, CsgSegmentList& 
     const glm::vec3 dd = glm::mat3(leaf.world_to_object) * q.d;
     ShapeInterval interval;
     if (!intersect_shape_interval(leaf.shape, oo, dd, interval)) return;
-    CsgSegment s;
-    s.enter = {interval.entry.t, interval.entry.normal, leaf.material, leaf_index, interval.entry.face, false};
-    s.leave = {interval.exit.t, interval.exit.normal, leaf.material, leaf_index, interval.exit.face, false};
+    // Written in place, field by field (see copy_crossing).
+    CsgSegment& s = out.append();
+    auto crossing = [&](CsgCrossing& c, const SurfaceCrossing& from) {
+        c.t = from.t;
+        c.normal = from.normal;
+        c.material = leaf.material;
+        c.leaf = leaf_index;
+        c.face = from.face;
+        c.mirrored = false;
+        c.carved = false;
+    };
+    crossing(s.enter, interval.entry);
+    crossing(s.leave, interval.exit);
     s.medium = leaf.material;
-    out.push_back(s);
 }
 
 }  // namespace caustica
