@@ -267,11 +267,13 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         const bool automatic = settings.projection_map == ProjectionMapMode::automatic;
         const long long cells = 2LL * settings.projection_map_granularity * settings.projection_map_granularity;
         const bool prebuilt = !settings.prebuilt_maps.empty();
-        // Raised to the minimum traced even if nothing is rejected: what the map decision weighs.
+        // Raised to the minimum traced even if nothing is rejected. With a minimum the map is
+        // always worth trying: a map that rejects directions raises the count past its cells.
         const long long unmapped = std::max(given, static_cast<long long>(std::ceil(
                                                        std::min(settings.min_traced_per_light, max_directions))));
         bool try_map = !prebuilt && !settings.global_illumination &&
-                       (settings.projection_map == ProjectionMapMode::on || (automatic && unmapped > 2 * cells));
+                       (settings.projection_map == ProjectionMapMode::on ||
+                        (automatic && (unmapped > 2 * cells || settings.min_traced_per_light > 0.0)));
         const auto t_map = std::chrono::steady_clock::now();
         if (prebuilt && l < settings.prebuilt_maps.size() && settings.prebuilt_maps[l]) {
             result.maps[l] = *settings.prebuilt_maps[l];

@@ -488,6 +488,9 @@ TEST_F(Cli, ResumeRefusesAnotherJobsStateAndKeepsIt) {
                                   "options"),
               std::string::npos)
         << photons.output;
+    const Result per_pixel = run(progressive + "--passes 6 --photons-per-pixel 1 --resume focus.lua -o part.pfm");
+    EXPECT_EQ(per_pixel.code, 2);
+    EXPECT_NE(per_pixel.output.find("it was saved with other options"), std::string::npos) << per_pixel.output;
     const Result size = run(progressive + "--passes 6 --minres --resume focus.lua -o part.pfm");
     EXPECT_EQ(size.code, 2);
     EXPECT_NE(size.output.find("it was saved for a 32 x 32 image, this render is 100 x 100"), std::string::npos)

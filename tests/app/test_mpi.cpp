@@ -163,6 +163,19 @@ TEST_F(Mpi, TwoAndThreeProcessesMakeOneProcesssImageForBothIntegrators) {
     }
 }
 
+TEST_F(Mpi, PhotonsPerPixelRaiseTheSameCountOnEveryRank) {
+    // Each rank raises its passes' photons from its own copy of the first pass's projection maps:
+    // the same count, so the same bits as one process.
+    // The peer ring: its light's map lets 0.8% of the directions through, so the count is raised.
+    const std::string args = "'" CAUSTICA_SOURCE_DIR "/bench/peers/ring.lua' --reproducible --lores "
+                             "--caustic-num-photons 2000 --photons-per-pixel 1 --integrator progressive --passes 4";
+    const CommandResult alone = render(args + " -o alone.pfm", 0);
+    ASSERT_EQ(alone.code, 0) << alone.output;
+    const CommandResult shared = render(args + " -o shared.pfm", 2);
+    ASSERT_EQ(shared.code, 0) << shared.output;
+    EXPECT_EQ(read("shared.pfm"), read("alone.pfm"));
+}
+
 TEST_F(Mpi, MoreFramesThanRanksAreSharedAsWholeFrames) {
     const std::string args = "'" + box + "' --reproducible --minres --caustic-num-photons 100000 --orbit-frames 3";
     ASSERT_EQ(render(args + " -o alone.pfm", 0).code, 0);

@@ -471,4 +471,16 @@ TEST(Photons, PhotonsPerPixelSetTheTracedCountOfAProgressivePass) {
         EXPECT_GE(static_cast<double>(l.traced), each - 1.0);
         EXPECT_LE(static_cast<double>(l.traced), each + 2.0);
     }
+    // The automatic choice tries a map whatever the count asked: the raised count is what it saves.
+    JobBuilder automatic = b;
+    automatic.job.options.projection_map = ProjectionMapMode::automatic;
+    const RenderJob auto_job = automatic.build();
+    CausticStage auto_stage;
+    build_progressive_pass(auto_stage, scene, auto_job, nullptr, PhotonPassExtras{});
+    ASSERT_EQ(auto_stage.lights.size(), 2u);
+    for (const LightCausticStats& l : auto_stage.lights) {
+        EXPECT_TRUE(l.projection_map_used);
+        EXPECT_GE(static_cast<double>(l.traced), each - 1.0);
+        EXPECT_LE(static_cast<double>(l.traced), each + 2.0);
+    }
 }
