@@ -456,6 +456,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 extras.photons_only = true;
                 extras.pass = p / replicate_groups;
                 extras.group = p % replicate_groups;
+                extras.reuse = &spare_photons_;
                 host.photon_progress() = 0;
                 host.report([&](SessionProgress& progress, RenderStats&) {
                     progress.photons_done = 0;
@@ -562,6 +563,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         });
         if (fresh || grid_seconds > 0.0)
             host.add_stage_time("photon passes", (fresh ? fresh->map_seconds + fresh->shoot_seconds : 0.0) + grid_seconds);
+        if (fresh) spare_photons_ = std::move(fresh->photons);  // the next pass's buffer
         grid_seconds = 0.0;
         if (!shared) snapshot_if_asked(seconds_before + (now_seconds() - segment_start));
     }

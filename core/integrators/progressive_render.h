@@ -83,6 +83,7 @@ private:
     std::mutex snapshot_mutex_;  // guards snapshot_
     std::optional<AccumulationState> snapshot_;
     PhotonGrid grid_;  // the pass's photons (its buffers reused pass after pass)
+    std::vector<Photon> spare_photons_;  // the last pass's photon buffer, for the next to fill
     // --layers: per written layer, per pixel, the sum of its samples; empty unless every pass of
     // the accumulation added to them.
     std::vector<std::vector<glm::dvec3>> layer_sums_;

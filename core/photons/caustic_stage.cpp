@@ -141,6 +141,7 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
                                         static_cast<double>(job.height) / static_cast<double>(lights.size());
     settings.memory_budget_bytes = photon_memory_left(job, scene);
     settings.progress = extras.progress;
+    settings.reuse = extras.reuse;
     if (extras.first) {  // a later pass: the first pass's projection maps, as it used them
         settings.prebuilt_maps.assign(lights.size(), nullptr);
         for (std::size_t l = 0; l < lights.size() && l < extras.first->lights.size(); ++l)

@@ -80,6 +80,7 @@ struct PhotonPassExtras {
     bool photons_only = false;           ///< keep the photons in CausticStage::photons, build no map
     int pass = 0;                        ///< the pass's place in its group's sequence of directions
     int group = 0;                       ///< its replicate group: each group's directions are their own sequence
+    std::vector<Photon>* reuse = nullptr; ///< memory for the photons (PhotonPassSettings::reuse)
 };
 
 /// A progressive integrator's photon pass (docs/CAUSTICS.md, "Progressive photon mapping"): with

@@ -140,10 +140,10 @@ void PhotonGrid::build(const std::vector<Photon>& photons, float cell) {
     blocks_.assign(total * block_floats, 0.0f);
     for (std::uint64_t block = 0; block < total; ++block)
         std::fill_n(blocks_.data() + block * block_floats, 3 * lanes, far_away);
-    std::vector<std::uint32_t> cursor(buckets, 0);  // photons placed in each bucket so far
+    cursor_.assign(buckets, 0);  // a member: pass after pass, no fresh pages to fault in
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t bucket = scratch_[i];
-        const std::uint32_t slot = cursor[bucket]++;
+        const std::uint32_t slot = cursor_[bucket]++;
         float* f = blocks_.data() + (static_cast<std::size_t>(start_[bucket]) + slot / lanes) * block_floats + slot % lanes;
         const Photon& photon = photons[i];
         const float values[9] = {photon.position.x, photon.position.y, photon.position.z,

@@ -47,6 +47,7 @@ private:
     std::uint64_t mask_ = 0;             // buckets - 1 (a power of two)
     std::vector<std::uint32_t> start_;   // per bucket its first photon; buckets + 1 entries
     std::vector<std::uint32_t> scratch_; // build: each photon's bucket
+    std::vector<std::uint32_t> cursor_;  // build: photons placed in each bucket so far
     /// The photons in blocks of 8 (one run is whole blocks): per block 8 x, 8 y, 8 z, 8 of each
     /// power channel and of each direction component, 72 floats in a row, so a scan reads
     /// contiguous memory.

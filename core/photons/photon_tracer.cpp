@@ -248,6 +248,10 @@ void check_photon_memory(double photons, long long requested, double budget_byte
 PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vector<Light>& lights,
                                        const PhotonPassSettings& settings, const std::atomic<bool>* cancel) {
     PhotonPassResult result;
+    if (settings.reuse) {
+        result.photons.swap(*settings.reuse);
+        result.photons.clear();
+    }
     result.maps.resize(lights.size());
     result.lights.resize(lights.size());
     const long long given = settings.photons_per_light;

@@ -50,6 +50,10 @@ struct PhotonPassSettings {
     std::vector<const ProjectionMap*> prebuilt_maps;
     /// When set, counts the directions considered so far (for progress reports).
     std::atomic<long long>* progress = nullptr;
+    /// When set, a buffer the pass's photons are gathered into (its contents are dropped, its
+    /// memory kept): a later progressive pass hands back the previous pass's photons, so the
+    /// copy does not fault in fresh pages every pass.
+    std::vector<Photon>* reuse = nullptr;
 };
 
 /// What happened for one light.
