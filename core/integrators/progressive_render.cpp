@@ -43,6 +43,15 @@ long long photon_directions(const CausticStage& stage) {
     return directions;
 }
 
+/// What a photon pass's progress counts to: the count as given (before --photons-per-pixel raises
+/// it) for each light that shoots.
+long long progress_directions(const CausticStage& stage, const Options& o) {
+    const long long given = o.gi_wanted() ? o.gi_num_photons : o.caustic_num_photons;
+    long long directions = 0;
+    for (const LightCausticStats& l : stage.lights) directions += l.candidates > 0 ? given : 0;
+    return directions;
+}
+
 /// The first gather radius most pixels will use: --accumulation-radius pixel footprints at the
 /// median distance pixel-centre rays of a 16 x 16 grid travel to the scene, at most the maximum
 /// distance (the grid's cell size before any gather has told). Meaningless once setup.cancel is set.
@@ -211,6 +220,7 @@ void ProgressiveRender::adapt_radii(Cluster* cluster, const std::atomic<bool>& c
 
 void ProgressiveRender::invalidate() {
     state_.valid = false;
+    std::vector<Photon>().swap(spare_photons_);
     layer_sums_.clear();
     snapshot_wanted_ = false;
     std::lock_guard lock(snapshot_mutex_);
@@ -460,7 +470,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 host.photon_progress() = 0;
                 host.report([&](SessionProgress& progress, RenderStats&) {
                     progress.photons_done = 0;
-                    progress.photons_total = photon_directions(*first_stage);
+                    progress.photons_total = progress_directions(*first_stage, job.options);
                 });
                 fresh = std::make_unique<CausticStage>();
                 host.set_stage("shooting photons");
@@ -576,6 +586,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             publish_means(host, accumulator_, image);
         }
     }
+    std::vector<Photon>().swap(spare_photons_);  // nothing held between renders
     if (estimate_stale) acc.error = accumulator_.estimate_error(region);
     acc.seconds = seconds_before + (now_seconds() - segment_start);
     host.report([&](SessionProgress& progress, RenderStats& stats) {

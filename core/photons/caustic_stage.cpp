@@ -78,6 +78,10 @@ std::uint64_t caustic_fingerprint(const RenderJob& job, std::uint64_t geometry_k
     }
     // Every option that feeds the photon stage, as the option table declares (core/scene/options.h).
     h = hash_options_feeding(h, job.options, stage_photons);
+    // --photons-per-pixel makes the image's size a photon count.
+    if (job.options.photons_per_pixel > 0.0)
+        h = mix64(h ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(job.width)) << 32 |
+                       static_cast<std::uint32_t>(job.height)));
     return h | 1;  // never 0, which means "nothing built"
 }
 
@@ -136,9 +140,13 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.pass = extras.pass;
     settings.max_depth = o.max_depth;
     settings.split = o.photon_split;
-    if (!lights.empty())
+    // --photons-per-pixel: shared by the lights that shoot photons (c2 > 0), only when photons are
+    // asked for at all (0 shoots none).
+    int shooting = 0;
+    for (const Light& light : lights) shooting += light.falloff.z > 0.0f ? 1 : 0;
+    if (shooting > 0 && settings.photons_per_light > 0 && o.photons_per_pixel > 0.0)
         settings.min_traced_per_light = o.photons_per_pixel * static_cast<double>(job.width) *
-                                        static_cast<double>(job.height) / static_cast<double>(lights.size());
+                                        static_cast<double>(job.height) / static_cast<double>(shooting);
     settings.memory_budget_bytes = photon_memory_left(job, scene);
     settings.progress = extras.progress;
     settings.reuse = extras.reuse;

@@ -220,7 +220,8 @@ PhotonGrid::Gather PhotonGrid::gather(const glm::vec3& p, const glm::vec3& n, fl
 }
 
 std::size_t PhotonGrid::memory_bytes() const {
-    return (start_.capacity() + scratch_.capacity()) * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(float);
+    return (start_.capacity() + scratch_.capacity() + cursor_.capacity()) * sizeof(std::uint32_t) +
+           blocks_.capacity() * sizeof(float);
 }
 
 }  // namespace caustica

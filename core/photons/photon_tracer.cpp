@@ -257,6 +257,8 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
     const long long given = settings.photons_per_light;
     // The most directions a light's count may be raised to (--caustic-num-photons' own limit).
     constexpr double max_directions = 1e11;
+    const double min_traced = settings.min_traced_per_light > 0.0 ? std::min(settings.min_traced_per_light, max_directions) : 0.0;
+    const char* count_option = settings.global_illumination ? "--gi-num-photons" : "--caustic-num-photons";
     double expected_photons = 0.0;  // over all lights: what the maps let through, at most stored
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const Light& light = lights[l];
@@ -273,11 +275,10 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         const bool prebuilt = !settings.prebuilt_maps.empty();
         // Raised to the minimum traced even if nothing is rejected. With a minimum the map is
         // always worth trying: a map that rejects directions raises the count past its cells.
-        const long long unmapped = std::max(given, static_cast<long long>(std::ceil(
-                                                       std::min(settings.min_traced_per_light, max_directions))));
+        const long long unmapped = std::max(given, static_cast<long long>(std::ceil(min_traced)));
         bool try_map = !prebuilt && !settings.global_illumination &&
                        (settings.projection_map == ProjectionMapMode::on ||
-                        (automatic && (unmapped > 2 * cells || settings.min_traced_per_light > 0.0)));
+                        (automatic && (unmapped > 2 * cells || min_traced > 0.0)));
         const auto t_map = std::chrono::steady_clock::now();
         if (prebuilt && l < settings.prebuilt_maps.size() && settings.prebuilt_maps[l]) {
             result.maps[l] = *settings.prebuilt_maps[l];
@@ -302,13 +303,17 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         // The directions of this light's pass: enough that min_traced_per_light are traced where
         // the map lets only its occupied fraction through.
         long long count = unmapped;
-        if (map && settings.min_traced_per_light > 0.0 && report.occupied_fraction > 0.0)
-            count = std::max(given, static_cast<long long>(std::ceil(std::min(
-                                        settings.min_traced_per_light / report.occupied_fraction, max_directions))));
+        if (map && min_traced > 0.0 && report.occupied_fraction > 0.0)
+            count = std::max(given, static_cast<long long>(std::ceil(std::min(min_traced / report.occupied_fraction,
+                                                                               max_directions))));
+        // Progress is counted in directions of the count as given (what the session's total
+        // holds), whatever the count was raised to.
+        const double progress_scale = static_cast<double>(given) / static_cast<double>(std::max(count, 1LL));
         // Refuse before anything is allocated for photons; margin for the map's padding.
         expected_photons += static_cast<double>(count) * (map ? std::min(1.0, 1.1 * report.occupied_fraction) : 1.0);
+        const std::string raised = std::string("--photons-per-pixel raised ") + count_option + " to";
         check_photon_memory(expected_photons, count, settings.memory_budget_bytes,
-                            count > given ? "--photons-per-pixel raised --caustic-num-photons to" : "--caustic-num-photons");
+                            count > given ? raised.c_str() : count_option);
         const auto t0 = std::chrono::steady_clock::now();
         const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
         const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;
@@ -337,14 +342,22 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
             // photons, C the cumulative expected count and rho one offset for the pass, so the total
             // is the expected one to a photon and neighbouring cells are rounded in opposite ways.
             std::vector<long long> first(cells.size() + 1, 0);
+            // Progress: the directions of the count as given that the cells up to c stand for, so
+            // that the light's increments add up to that count exactly.
+            std::vector<long long> progress_at(settings.progress ? cells.size() + 1 : 0, 0);
             {
                 RandomStream offset(settings.sequence_seed, 0x726f756e64 ^ l, 9);
                 double rho = offset.uniform() + static_cast<double>(settings.pass) * 0.6180339887498949;
                 rho -= std::floor(rho);
-                double cumulative = 0.0;
+                double cumulative = 0.0, cumulative_share = 0.0;
                 for (std::size_t c = 0; c < cells.size(); ++c) {
                     cumulative += static_cast<double>(count) * cells[c].share;
                     first[c + 1] = static_cast<long long>(std::floor(cumulative + rho));
+                    cumulative_share += cells[c].share;
+                    if (settings.progress)
+                        progress_at[c + 1] = c + 1 == cells.size() ? given
+                                                                   : std::llround(static_cast<double>(given) *
+                                                                                  cumulative_share / occupied.fraction());
                 }
             }
             constexpr std::size_t cells_per_block = 32;
@@ -365,16 +378,18 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                         shift_s -= std::floor(shift_s);
                         shift_t -= std::floor(shift_t);
                         if (settings.progress)
-                            settings.progress->fetch_add(  // in directions of the count: the whole count at the end
-                                static_cast<long long>(static_cast<double>(count) * cells[c].share / occupied.fraction()),
-                                std::memory_order_relaxed);
+                            settings.progress->fetch_add(progress_at[c + 1] - progress_at[c], std::memory_order_relaxed);
                         for (long long j = 0; j < n; ++j) {
                             // A cell may hold any share of the count: the flag is read within it.
                             if (j % steps_between_cancel_checks == 0 && is_cancelled(cancel)) return;
-                            RandomStream random(settings.seed,
-                                                (static_cast<std::uint64_t>(l) << 56) ^ (static_cast<std::uint64_t>(c) << 24) ^
-                                                    static_cast<std::uint64_t>(j),
-                                                3);
+                            // Beyond 2^24 photons in a cell (a count raised per pixel can get
+                            // there) the packed key would reach the next cell's: hashed instead.
+                            const auto jj = static_cast<std::uint64_t>(j);
+                            const std::uint64_t key =
+                                jj < (std::uint64_t{1} << 24)
+                                    ? (static_cast<std::uint64_t>(l) << 56) ^ (static_cast<std::uint64_t>(c) << 24) ^ jj
+                                    : hash_combine(hash_combine(0x6d616e79ULL ^ static_cast<std::uint64_t>(l), c), jj);
+                            RandomStream random(settings.seed, key, 3);
                             double u, v;
                             if (low_discrepancy) {
                                 u = (static_cast<double>(j) + 0.5) / static_cast<double>(n) + shift_s;
@@ -402,7 +417,10 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                 for (long long b = r.begin(); b != r.end(); ++b) {
                     if (cancel && cancel->load(std::memory_order_relaxed)) return;
                     const long long begin = b * block_size, end = std::min(count, (b + 1) * block_size);
-                    if (settings.progress) settings.progress->fetch_add(end - begin, std::memory_order_relaxed);
+                    if (settings.progress)
+                        settings.progress->fetch_add(std::llround(static_cast<double>(end) * progress_scale) -
+                                                         std::llround(static_cast<double>(begin) * progress_scale),
+                                                     std::memory_order_relaxed);
                     for (long long i = begin; i < end; ++i) {
                         RandomStream random(settings.seed, (static_cast<std::uint64_t>(l) << 40) ^ static_cast<std::uint64_t>(i), 3);
                         float u, v;

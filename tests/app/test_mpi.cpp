@@ -174,6 +174,11 @@ TEST_F(Mpi, PhotonsPerPixelRaiseTheSameCountOnEveryRank) {
     const CommandResult shared = render(args + " -o shared.pfm", 2);
     ASSERT_EQ(shared.code, 0) << shared.output;
     EXPECT_EQ(read("shared.pfm"), read("alone.pfm"));
+    // The option did raise the count: without it the image is another.
+    const CommandResult given = render(std::string(args).replace(args.find("--photons-per-pixel 1 "), 22, "") +
+                                       " -o given.pfm", 0);
+    ASSERT_EQ(given.code, 0) << given.output;
+    EXPECT_NE(read("given.pfm"), read("alone.pfm"));
 }
 
 TEST_F(Mpi, MoreFramesThanRanksAreSharedAsWholeFrames) {
