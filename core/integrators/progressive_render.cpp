@@ -36,22 +36,6 @@ double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-/// The photon directions a stage's lights were given.
-long long photon_directions(const CausticStage& stage) {
-    long long directions = 0;
-    for (const LightCausticStats& l : stage.lights) directions += l.candidates;
-    return directions;
-}
-
-/// What a photon pass's progress counts to: the count as given (before --photons-per-pixel raises
-/// it) for each light that shoots.
-long long progress_directions(const CausticStage& stage, const Options& o) {
-    const long long given = o.gi_wanted() ? o.gi_num_photons : o.caustic_num_photons;
-    long long directions = 0;
-    for (const LightCausticStats& l : stage.lights) directions += l.candidates > 0 ? given : 0;
-    return directions;
-}
-
 /// The first gather radius most pixels will use: --accumulation-radius pixel footprints at the
 /// median distance pixel-centre rays of a 16 x 16 grid travel to the scene, at most the maximum
 /// distance (the grid's cell size before any gather has told). Meaningless once setup.cancel is set.
@@ -470,7 +454,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 host.photon_progress() = 0;
                 host.report([&](SessionProgress& progress, RenderStats&) {
                     progress.photons_done = 0;
-                    progress.photons_total = progress_directions(*first_stage, job.options);
+                    progress.photons_total = progressive_photon_directions(job);
                 });
                 fresh = std::make_unique<CausticStage>();
                 host.set_stage("shooting photons");

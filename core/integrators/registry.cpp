@@ -38,11 +38,6 @@ void build_progressive_photons(CausticStage& stage, const RenderScene& scene, co
     build_progressive_pass(stage, scene, job, in.cancel, extras);
 }
 
-long long progressive_directions(const RenderJob& job) {
-    const Options& o = job.options;
-    return (o.gi_wanted() ? o.gi_num_photons : o.caustic_num_photons) * static_cast<long long>(job.lights.size());
-}
-
 std::unique_ptr<RenderLoop> progressive_loop() { return std::make_unique<ProgressiveRender>(); }
 
 glm::vec3 progressive_readout(const PhotonMap& map, const glm::vec3& p, const glm::vec3& n, const glm::vec3& kd,
@@ -60,7 +55,7 @@ const std::vector<IntegratorEntry>& integrator_entries() {
         {IntegratorKind::classic, "classic", false, true, make<ClassicIntegrator, ClassicParams>, classic_photons_wanted,
          build_classic_photons, classic_photon_directions, nullptr, classic_readout},
         {IntegratorKind::progressive, "progressive", true, false, make<ProgressiveIntegrator, ProgressiveParams>,
-         progressive_photons_wanted, build_progressive_photons, progressive_directions, progressive_loop,
+         progressive_photons_wanted, build_progressive_photons, progressive_photon_directions, progressive_loop,
          progressive_readout},
     };
     return entries;

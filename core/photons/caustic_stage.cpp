@@ -97,9 +97,24 @@ long long classic_photon_directions(const RenderJob& job) {
     // As build_classic_stage asks shoot_classic_photons: N of each map wanted, every light with c2 > 0.
     const long long per_light = (caustic_map_wanted(job) ? classic_photons_offered(o.caustic_num_photons) : 0) +
                                 (gi_map_wanted(job) ? classic_photons_offered(o.gi_num_photons) : 0);
-    long long shooting = 0;
+    return per_light * shooting_lights(job);
+}
+
+int shooting_lights(const RenderJob& job) {
+    int shooting = 0;
     for (const Light& light : job_lights(job)) shooting += light.falloff.z > 0.0f ? 1 : 0;
-    return per_light * shooting;
+    return shooting;
+}
+
+long long progressive_photon_directions(const RenderJob& job) {
+    const Options& o = job.options;
+    return (o.gi_wanted() ? o.gi_num_photons : o.caustic_num_photons) * shooting_lights(job);
+}
+
+long long photon_directions(const CausticStage& stage) {
+    long long directions = 0;
+    for (const LightCausticStats& l : stage.lights) directions += l.candidates;
+    return directions;
 }
 
 void build_progressive_pass(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
@@ -142,8 +157,7 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.split = o.photon_split;
     // --photons-per-pixel: shared by the lights that shoot photons (c2 > 0), only when photons are
     // asked for at all (0 shoots none).
-    int shooting = 0;
-    for (const Light& light : lights) shooting += light.falloff.z > 0.0f ? 1 : 0;
+    const int shooting = shooting_lights(job);
     if (shooting > 0 && settings.photons_per_light > 0 && o.photons_per_pixel > 0.0)
         settings.min_traced_per_light = o.photons_per_pixel * static_cast<double>(job.width) *
                                         static_cast<double>(job.height) / static_cast<double>(shooting);

@@ -72,6 +72,17 @@ void build_classic_photon_stage(CausticStage& stage, const RenderScene& scene, c
 /// shoots photons (one with quadratic falloff): the total its progress counts up to.
 long long classic_photon_directions(const RenderJob& job);
 
+/// The lights of a job that shoot photons (those with quadratic falloff, c2 > 0).
+int shooting_lights(const RenderJob& job);
+
+/// What a progressive photon pass's progress counts up to: the count as given (--gi-num-photons
+/// with --gi, else --caustic-num-photons; before --photons-per-pixel raises it) for each light
+/// that shoots photons.
+long long progressive_photon_directions(const RenderJob& job);
+
+/// The photon directions a stage's lights considered (as raised).
+long long photon_directions(const CausticStage& stage);
+
 /// What a progressive photon pass adds to the job.
 struct PhotonPassExtras {
     std::uint64_t seed = 0;              ///< the pass's photon stream (used when `first` is set)
