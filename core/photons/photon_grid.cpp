@@ -1,6 +1,7 @@
 #include "core/photons/photon_grid.h"
 
 #include "core/render/random.h"
+#include "core/util/huge_pages.h"
 #include "core/util/parallel.h"
 
 #include <tbb/blocked_range.h>
@@ -117,7 +118,13 @@ void PhotonGrid::build(const std::vector<Photon>& photons, float cell) {
     while (buckets < n) buckets *= 2;
     mask_ = buckets - 1;
     // Each photon's bucket (in parallel), then a counting sort in photon order (deterministic).
-    scratch_.resize(n);
+    // Room for a quarter more than this pass needs: the next pass, a few photons larger, then
+    // faults in no fresh pages (slow on some machines: docs/PERFORMANCE.md).
+    auto room = [](auto& v, std::size_t size) {
+        if (size > v.capacity()) reserve_huge(v, size + size / 4);
+        v.resize(size);
+    };
+    room(scratch_, n);
     caustica::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const glm::vec3& q = photons[i].position;
@@ -126,31 +133,48 @@ void PhotonGrid::build(const std::vector<Photon>& photons, float cell) {
                                                                cell_coordinate(q.z, inverse_cell_)));
         }
     });
-    start_.assign(buckets + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) ++start_[scratch_[i] + 1];
-    // Runs of whole blocks: start_ counts blocks.
-    std::uint64_t total = 0;
-    for (std::uint64_t b = 1; b <= buckets; ++b) {
-        const std::uint32_t count = start_[b];
-        start_[b] = static_cast<std::uint32_t>(total + (count + lanes - 1) / lanes);
-        total = start_[b];
-    }
+    // Per bucket its photons (cursor_) and its blocks (start_), from one count.
+    cursor_.assign(buckets + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++cursor_[scratch_[i] + 1];
+    start_.resize(buckets + 1);
     start_[0] = 0;
-    // Padding photons lie far away and arrive from nowhere (direction 0): never gathered.
-    blocks_.assign(total * block_floats, 0.0f);
-    for (std::uint64_t block = 0; block < total; ++block)
-        std::fill_n(blocks_.data() + block * block_floats, 3 * lanes, far_away);
-    cursor_.assign(buckets, 0);  // a member: pass after pass, no fresh pages to fault in
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t bucket = scratch_[i];
-        const std::uint32_t slot = cursor_[bucket]++;
-        float* f = blocks_.data() + (static_cast<std::size_t>(start_[bucket]) + slot / lanes) * block_floats + slot % lanes;
-        const Photon& photon = photons[i];
-        const float values[9] = {photon.position.x, photon.position.y, photon.position.z,
-                                 photon.power.x,    photon.power.y,    photon.power.z,
-                                 photon.direction.x, photon.direction.y, photon.direction.z};
-        for (int c = 0; c < 9; ++c) f[c * lanes] = values[c];
+    std::uint64_t total = 0, first = 0;
+    for (std::uint64_t b = 1; b <= buckets; ++b) {
+        const std::uint32_t count = cursor_[b];
+        total += (count + lanes - 1) / lanes;
+        first += count;
+        start_[b] = static_cast<std::uint32_t>(total);
+        cursor_[b] = static_cast<std::uint32_t>(first);
     }
+    // The photons' indices bucket by bucket, in photon order within each (a stable counting sort
+    // of 4-byte indices: the random writes stay in a small array)...
+    room(order_, n);
+    for (std::size_t i = 0; i < n; ++i) order_[cursor_[scratch_[i]]++] = static_cast<std::uint32_t>(i);
+    // (cursor_[b] is now bucket b's end, the next one's start: shifted back.)
+    for (std::uint64_t b = buckets; b > 0; --b) cursor_[b] = cursor_[b - 1];
+    cursor_[0] = 0;
+    // ... then the blocks written in order, each whole, in parallel over the buckets: every block
+    // has one place, so the layout is the same on any thread count. The last block of a bucket
+    // is padded with photons far away that arrive from nowhere (direction 0): never gathered.
+    room(blocks_, total * block_floats);
+    caustica::parallel_for(tbb::blocked_range<std::uint64_t>(0, buckets, 4096), [&](const tbb::blocked_range<std::uint64_t>& range) {
+        for (std::uint64_t bucket = range.begin(); bucket != range.end(); ++bucket) {
+            const std::uint32_t begin = cursor_[bucket], end = cursor_[bucket + 1];
+            float* f = blocks_.data() + static_cast<std::size_t>(start_[bucket]) * block_floats;
+            for (std::uint32_t slot = begin; slot < end; slot += lanes, f += block_floats) {
+                const std::uint32_t filled = std::min<std::uint32_t>(lanes, end - slot);
+                for (std::uint32_t lane = 0; lane < filled; ++lane) {
+                    const Photon& photon = photons[order_[slot + lane]];
+                    const float values[9] = {photon.position.x, photon.position.y, photon.position.z,
+                                             photon.power.x,    photon.power.y,    photon.power.z,
+                                             photon.direction.x, photon.direction.y, photon.direction.z};
+                    for (int c = 0; c < 9; ++c) f[c * lanes + lane] = values[c];
+                }
+                for (std::uint32_t lane = filled; lane < lanes; ++lane)
+                    for (int c = 0; c < 9; ++c) f[c * lanes + lane] = c < 3 ? far_away : 0.0f;
+            }
+        }
+    });
     photons_ = n;
 }
 
@@ -220,7 +244,7 @@ PhotonGrid::Gather PhotonGrid::gather(const glm::vec3& p, const glm::vec3& n, fl
 }
 
 std::size_t PhotonGrid::memory_bytes() const {
-    return (start_.capacity() + scratch_.capacity() + cursor_.capacity()) * sizeof(std::uint32_t) +
+    return (start_.capacity() + scratch_.capacity() + cursor_.capacity() + order_.capacity()) * sizeof(std::uint32_t) +
            blocks_.capacity() * sizeof(float);
 }
 

@@ -45,9 +45,10 @@ private:
 
     float cell_ = 1.0f, inverse_cell_ = 1.0f;
     std::uint64_t mask_ = 0;             // buckets - 1 (a power of two)
-    std::vector<std::uint32_t> start_;   // per bucket its first photon; buckets + 1 entries
+    std::vector<std::uint32_t> start_;   // per bucket its first block; buckets + 1 entries
     std::vector<std::uint32_t> scratch_; // build: each photon's bucket
-    std::vector<std::uint32_t> cursor_;  // build: photons placed in each bucket so far
+    std::vector<std::uint32_t> cursor_;  // build: per bucket its first photon in `order_` (buckets + 1)
+    std::vector<std::uint32_t> order_;   // build: the photons' indices, bucket by bucket
     /// The photons in blocks of 8 (one run is whole blocks): per block 8 x, 8 y, 8 z, 8 of each
     /// power channel and of each direction component, 72 floats in a row, so a scan reads
     /// contiguous memory.
