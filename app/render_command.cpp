@@ -413,6 +413,7 @@ int run_render_command(const std::vector<std::string>& args, Cluster* cluster) {
     std::signal(SIGINT, on_interrupt);
     std::signal(SIGTERM, on_interrupt);
     RenderSession session;
+    session.set_photon_lookups(false);  // nothing looks photons up after a batch render
     RenderPlan plan;
     if (!cluster) {
         const int early = plan_render(args, session, true, plan);

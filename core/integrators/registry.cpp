@@ -35,6 +35,7 @@ void build_progressive_photons(CausticStage& stage, const RenderScene& scene, co
                                const PhotonStageInputs& in) {
     PhotonPassExtras extras;
     extras.progress = in.progress;
+    extras.photons_only = !in.lookups;
     build_progressive_pass(stage, scene, job, in.cancel, extras);
 }
 

@@ -25,6 +25,10 @@ struct PhotonStageInputs {
     const TextureSet* textures = nullptr;         ///< the session's textures (null: the stage loads its own)
     Cluster* cluster = nullptr;                   ///< the ranks rendering together (null: alone)
     std::atomic<long long>* progress = nullptr;   ///< photon directions considered so far (may be null)
+    /// Whether the stage must answer photon lookups (a k-d tree: the single k-nearest pass, the
+    /// preview's coarse pass, readouts and photon dots). Accumulated passes gather from their own
+    /// grid, so a batch render that accumulates needs none (RenderSession::set_photon_lookups).
+    bool lookups = true;
 };
 
 struct IntegratorEntry {

@@ -185,6 +185,7 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     // A cancelled pass is thrown away: no tree, and no maps (one may have been cut short).
     if (cancel && cancel->load()) return;
     stage.projection_maps = std::move(pass.maps);
+    stage.photon_pass = settings.photons_per_light > 0;
     if (extras.photons_only)
         stage.photons = std::move(pass.photons);
     else if (settings.photons_per_light > 0)

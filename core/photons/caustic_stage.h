@@ -45,9 +45,11 @@ struct CausticStage {
     std::uint64_t key = 0;                   ///< caustic_fingerprint it was built for (0 = none)
     std::unique_ptr<PhotonMap> map;          ///< the caustic map; null when the job has no caustics
     std::unique_ptr<PhotonMap> gi_map;       ///< classic GI map; null unless gi_wanted()
-    /// A later progressive pass's photons as they were stored (PhotonPassExtras::photons_only):
-    /// the pass loop sorts them into its own grid, no k-d tree is built.
+    /// A progressive pass's photons as they were stored (PhotonPassExtras::photons_only): the pass
+    /// loop sorts them into its own grid, no k-d tree is built.
     std::vector<Photon> photons;
+    /// Whether the pass shot photons (into `map`, or `photons` without a tree).
+    bool photon_pass = false;
     std::vector<ProjectionMap> projection_maps;
     std::vector<glm::vec3> light_positions;
     std::vector<LightCausticStats> lights;     ///< the caustic pass of each light
@@ -96,7 +98,8 @@ struct PhotonPassExtras {
 
 /// A progressive integrator's photon pass (docs/CAUSTICS.md, "Progressive photon mapping"): with
 /// `extras.first`, a fresh photon stream of `extras.seed` through the first pass's projection maps;
-/// without, the first pass of the job (its projection maps, photons and k-D tree).
+/// without, the first pass of the job (its projection maps, photons and, unless
+/// `extras.photons_only`, its k-D tree).
 void build_progressive_pass(CausticStage& stage, const RenderScene& scene, const RenderJob& job,
                             const std::atomic<bool>* cancel, const PhotonPassExtras& extras);
 

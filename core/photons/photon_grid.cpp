@@ -119,7 +119,8 @@ void PhotonGrid::build(const std::vector<Photon>& photons, float cell) {
     mask_ = buckets - 1;
     // Each photon's bucket (in parallel), then a counting sort in photon order (deterministic).
     // Room for a quarter more than this pass needs: the next pass, a few photons larger, then
-    // faults in no fresh pages (slow on some machines: docs/PERFORMANCE.md).
+    // grows in place instead of moving to fresh pages (slow to fault in on some machines:
+    // docs/PERFORMANCE.md).
     auto room = [](auto& v, std::size_t size) {
         if (size > v.capacity()) reserve_huge(v, size + size / 4);
         v.resize(size);

@@ -57,6 +57,11 @@ void RenderSession::set_job(const RenderJob& job) {
     if (loop_) loop_->invalidate();  // any change of job starts the accumulation again
 }
 
+std::uint64_t RenderSession::stage_key() const {
+    if (caustic_key_ == 0 || photon_lookups_needed()) return caustic_key_;
+    return hash_combine(caustic_key_, 0x6e6f2d6b64ULL) | 1;
+}
+
 void RenderSession::set_stop_rules(int passes, double time_limit, double target_error) {
     cancel();
     if (worker_.joinable()) worker_.join();
@@ -208,7 +213,7 @@ void RenderSession::prepare_caustics() {
         publish_caustic_stats();
         return;
     }
-    if (caustics_ && caustics_->key == caustic_key_) {
+    if (caustics_ && caustics_->key == stage_key()) {
         std::lock_guard lock(mutex_);
         stats_.stages.push_back({"photon pass", 0.0, true});
         publish_caustic_stats();
@@ -227,22 +232,25 @@ void RenderSession::prepare_caustics() {
     inputs.textures = textures_.get();
     inputs.cluster = cluster_;  // the builder decides whether it has other ranks
     inputs.progress = &photon_progress_;
+    inputs.lookups = photon_lookups_needed();
     integrator.build_photons(*fresh, *scene_, job_, inputs);
-    fresh->key = cancel_requested_ ? 0 : caustic_key_;  // a cancelled pass is not reused
+    fresh->key = cancel_requested_ ? 0 : stage_key();  // a cancelled pass is not reused
     std::lock_guard lock(mutex_);  // published at once: the preview shows maps and counts early
     caustics_ = std::move(fresh);
     ++counters_.photon_passes;
     stats_.stages.push_back({"projection maps", caustics_->map_seconds, false});
     stats_.stages.push_back({"photon shooting", caustics_->shoot_seconds, false});
-    stats_.stages.push_back({"photon k-d tree", caustics_->tree_seconds, false});
+    if (caustics_->map || caustics_->gi_map)  // (none for a stage without lookups)
+        stats_.stages.push_back({"photon k-d tree", caustics_->tree_seconds, false});
     for (const std::string& w : caustics_->warnings) warnings_.push_back(w);
     publish_caustic_stats();
 }
 
 void RenderSession::publish_caustic_stats() {
     stats_.caustic_lights = caustics_->lights;
-    stats_.caustic_photons = caustics_->map ? caustics_->map->size() : 0;
-    stats_.caustic_map_bytes = caustics_->map ? caustics_->map->memory_bytes() : 0;
+    // (A stage without lookups holds its photons as stored, without a tree.)
+    stats_.caustic_photons = caustics_->map ? caustics_->map->size() : caustics_->photons.size();
+    stats_.caustic_map_bytes = caustics_->map ? caustics_->map->memory_bytes() : caustics_->photons.size() * sizeof(Photon);
     stats_.gi_lights = caustics_->gi_lights;
     stats_.gi_photons = caustics_->gi_map ? caustics_->gi_map->size() : 0;
     stats_.gi_map_bytes = caustics_->gi_map ? caustics_->gi_map->memory_bytes() : 0;
@@ -296,7 +304,7 @@ void RenderSession::run() {
             // photons that are not cached yet are shot (docs/PREVIEW.md, "While photons are shot").
             // Batch renders have no coarse pass, so their images never depend on it.
             direct_first_ = coarse_preview_ && !(loop_ && loop_->resumable()) && caustic_key_ != 0 &&
-                            !(caustics_ && caustics_->key == caustic_key_);
+                            !(caustics_ && caustics_->key == stage_key());
             if (direct_first_) render_direct_preview(arena);
             if (cancel_requested_) return;
             prepare_caustics();

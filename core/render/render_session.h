@@ -204,6 +204,12 @@ public:
         preview_block_ = block > 0 && tile_size % block == 0 ? block : preview_block;
     }
 
+    /// Whether photon lookups are wanted beyond what the job itself needs (the preview's coarse
+    /// pass, readouts and photon dots): off, an accumulating progressive job's first photon pass
+    /// builds no k-d tree (its passes gather from their own grid), which a batch render that
+    /// never looks photons up saves. On by default.
+    void set_photon_lookups(bool on) { photon_lookups_ = on; }
+
     /// Renders each job together with the other ranks of `cluster` (docs/SCALING.md; null or one
     /// rank: alone). Every rank's session must be given the same jobs in the same order and run
     /// them to the end (batch rendering: no resume). Rank 0's image is the one a single process
@@ -242,7 +248,7 @@ private:
     void put_tile_bytes(int first, int last, const Cluster::Bytes& bytes, const std::vector<LayerTarget>* layers);
     void prepare_scene();       // flattening, BVH, textures
     void prepare_checked_scene();  // the job validated, its scene built, its option warnings
-    void prepare_caustics();    // projection maps, photons, k-d tree
+    void prepare_caustics();    // projection maps, photons, k-d tree (when lookups are needed)
     void publish_caustic_stats();  // under mutex_
     void make_image(int width, int height);  // the image and its tiles, at that size
     void render_passes(tbb::task_arena& arena, int threads);  // both image passes
@@ -279,6 +285,16 @@ private:
     std::unique_ptr<std::atomic<std::uint64_t>[]> tile_versions_;
     std::atomic<std::uint64_t> version_counter_{0};
     bool coarse_preview_ = false;
+    bool photon_lookups_ = true;
+    /// Whether this job's photon stage must answer lookups (PhotonStageInputs::lookups): always for
+    /// a single k-nearest pass and for photon dots. Asked when the stage is prepared: the stop
+    /// rules and set_photon_lookups may change it after set_job.
+    bool photon_lookups_needed() const {
+        return photon_lookups_ || !job_.options.accumulates() || job_.options.draw_caustic_map;
+    }
+    /// The key of the photon stage the job needs: its fingerprint, told apart when the stage
+    /// answers no lookups, so that neither kind is ever taken for the other (never 0 then).
+    std::uint64_t stage_key() const;
     int preview_block_ = preview_block;
     RenderRegion region_;  // set_region(): the pixels the passes render (empty: all)
     std::thread worker_;

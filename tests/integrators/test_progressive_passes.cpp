@@ -169,6 +169,72 @@ double pass_seconds(const RenderStats& stats) {
 
 }  // namespace
 
+// A batch render that accumulates looks no photon up (RenderSession::set_photon_lookups): its
+// first photon pass keeps the photons as stored, without the k-d tree, and the passes gather the
+// same photons in the same order: the bits of a render that builds the tree (the preview's, so
+// that its copied command line renders what it shows). A single k-nearest pass, which does look
+// photons up, still gets its tree and the same bits. A session that changes its mind between
+// renders never takes one kind of stage for the other.
+TEST(ProgressivePasses, WithoutPhotonLookupsTheFirstPassBuildsNoTreeAndGathersTheSamePhotons) {
+    RenderJob job = progressive_virtual_light(48, 20'000, 5, 4);
+    job.options.reproducible = true;
+    auto render = [&](bool lookups) {
+        RenderSession session;
+        session.set_photon_lookups(lookups);
+        session.set_job(job);
+        session.start();
+        EXPECT_TRUE(session.wait());
+        return std::make_pair(session.image(), session.stats());
+    };
+    auto built_tree = [](const RenderStats& stats) {
+        return std::any_of(stats.stages.begin(), stats.stages.end(),
+                           [](const StageTime& s) { return s.name == "photon k-d tree"; });
+    };
+    const auto [with_tree, with_stats] = render(true);
+    const auto [without_tree, without_stats] = render(false);
+    EXPECT_TRUE(built_tree(with_stats));
+    EXPECT_FALSE(built_tree(without_stats));
+    ASSERT_GT(with_stats.caustic_photons, 0u);
+    EXPECT_EQ(without_stats.caustic_photons, with_stats.caustic_photons);  // the last pass's
+    EXPECT_EQ(without_stats.accumulation.passes, 4);
+    EXPECT_TRUE(std::any_of(with_tree.pixels.begin(), with_tree.pixels.end(),
+                            [](const glm::vec3& c) { return c.x > 0.0f; }));
+    EXPECT_EQ(with_tree.pixels, without_tree.pixels);
+
+    job.options.passes = 1;
+    const auto [single_with, single_with_stats] = render(true);
+    const auto [single_without, single_without_stats] = render(false);
+    EXPECT_TRUE(built_tree(single_without_stats));
+    EXPECT_EQ(single_with.pixels, single_without.pixels);
+
+    // One session, told to look nothing up: its accumulation's stage (no tree) is cached, and the
+    // single pass its stop rules then ask for shoots a stage with the tree rather than take it;
+    // that one serves a render that looks photons up, whose image is the tree-built one's.
+    auto reused = [](const RenderStats& stats) {
+        return std::any_of(stats.stages.begin(), stats.stages.end(),
+                           [](const StageTime& s) { return s.name == "photon pass" && s.cached; });
+    };
+    job.options.passes = 4;
+    RenderSession session;
+    session.set_photon_lookups(false);
+    session.set_job(job);
+    session.start();
+    ASSERT_TRUE(session.wait());
+    EXPECT_FALSE(built_tree(session.stats()));
+    session.set_stop_rules(1, 0.0, 0.0);
+    session.start();
+    ASSERT_TRUE(session.wait());
+    EXPECT_TRUE(built_tree(session.stats()));
+    EXPECT_FALSE(reused(session.stats()));
+    EXPECT_EQ(session.image().pixels, single_with.pixels);
+    session.set_photon_lookups(true);
+    session.set_stop_rules(4, 0.0, 0.0);
+    session.start();
+    ASSERT_TRUE(session.wait());
+    EXPECT_TRUE(reused(session.stats()));
+    EXPECT_EQ(session.image().pixels, with_tree.pixels);
+}
+
 // --passes N: exactly N passes of N x caustic_num_photons directions, stopped by "passes";
 // --passes 1 is the single k-nearest pass, which does not accumulate.
 TEST(ProgressiveStopping, PassLimitGivesExactlyThatManyPasses) {
