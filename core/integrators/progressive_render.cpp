@@ -360,7 +360,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         progress.tiles_total = tile_count * static_cast<std::size_t>(progress.passes);
     });
     const CausticStage* const first_stage = host.photon_stage();
-    const bool has_photons = first_stage && (first_stage->map || first_stage->photon_pass);
+    const bool has_photons = first_stage && first_stage->photon_pass;
     Image& image = host.image();
     if (restored_) {  // a saved accumulation: its image at once, even when no pass is left to add
         publish_means(host, accumulator_, image);
@@ -440,21 +440,8 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         const double t0 = now_seconds();
         std::unique_ptr<CausticStage> fresh;
         long long round_photons = 0;
-        std::vector<Photon> as_stored;  // the first pass's photons back in the order they were stored
         if (mine) {
-            const std::vector<Photon>* photons = nullptr;
-            if (has_photons && !first_stage->map) {
-                photons = &first_stage->photons;
-            } else if (has_photons && p == 0) {
-                // The tree holds them in its own order. The grid keeps the order it is given
-                // within a cell, and so decides the sums' rounding: with the photons as stored,
-                // a render that builds no tree (a batch render) gives the bits of one that does
-                // (the preview, which looks photons up).
-                const PhotonMap& map = *first_stage->map;
-                as_stored.resize(map.size());
-                for (std::size_t i = 0; i < map.size(); ++i) as_stored[map.tree().order()[i]] = map.photon(i);
-                photons = &as_stored;
-            }
+            const std::vector<Photon>* photons = has_photons ? &first_stage->photons : nullptr;
             if (p > 0 && has_photons) {
                 PhotonPassExtras extras;
                 extras.seed = hash_combine(acc.seed ^ 0x7061737365730000ULL, static_cast<std::uint64_t>(p));

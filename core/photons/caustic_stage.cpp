@@ -186,10 +186,10 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     if (cancel && cancel->load()) return;
     stage.projection_maps = std::move(pass.maps);
     stage.photon_pass = settings.photons_per_light > 0;
-    if (extras.photons_only)
-        stage.photons = std::move(pass.photons);
-    else if (settings.photons_per_light > 0)
-        stage.map = std::make_unique<PhotonMap>(std::move(pass.photons));
+    stage.photons = std::move(pass.photons);
+    // The tree keeps its own copy, in its own order: the passes' grid is given the photons as
+    // stored either way, and so sums them in the same order with or without lookups.
+    if (!extras.photons_only && stage.photon_pass) stage.map = std::make_unique<PhotonMap>(stage.photons);
     stage.tree_seconds = seconds_since(t0);
 }
 
@@ -381,8 +381,11 @@ void build_classic_stage(CausticStage& stage, const RenderScene& scene, const Re
     check_photon_memory(stored, gi ? o.gi_num_photons : o.caustic_num_photons, settings.memory_budget_bytes,
                         gi ? "--gi-num-photons" : "--caustic-num-photons");
     const auto t0 = std::chrono::steady_clock::now();
-    if (caustic) stage.map = std::make_unique<PhotonMap>(std::move(pass.caustic));
-    if (gi) stage.gi_map = std::make_unique<PhotonMap>(std::move(pass.gi));
+    // Each map holds its photons in its tree's order: the stored ones go as soon as it is built.
+    if (caustic) stage.map = std::make_unique<PhotonMap>(pass.caustic);
+    pass.caustic = {};
+    if (gi) stage.gi_map = std::make_unique<PhotonMap>(pass.gi);
+    pass.gi = {};
     stage.tree_seconds = seconds_since(t0);
 }
 

@@ -45,10 +45,10 @@ struct CausticStage {
     std::uint64_t key = 0;                   ///< caustic_fingerprint it was built for (0 = none)
     std::unique_ptr<PhotonMap> map;          ///< the caustic map; null when the job has no caustics
     std::unique_ptr<PhotonMap> gi_map;       ///< classic GI map; null unless gi_wanted()
-    /// A progressive pass's photons as they were stored (PhotonPassExtras::photons_only): the pass
-    /// loop sorts them into its own grid, no k-d tree is built.
+    /// A progressive pass's photons in the order they were stored, which the pass loop sorts into
+    /// its own grid (`map`, when lookups need it, holds a copy in the k-d tree's order).
     std::vector<Photon> photons;
-    /// Whether the pass shot photons (into `map`, or `photons` without a tree).
+    /// Whether the progressive pass shot photons (`photons` may still be empty).
     bool photon_pass = false;
     std::vector<ProjectionMap> projection_maps;
     std::vector<glm::vec3> light_positions;
@@ -90,7 +90,7 @@ struct PhotonPassExtras {
     std::uint64_t seed = 0;              ///< the pass's photon stream (used when `first` is set)
     const CausticStage* first = nullptr; ///< the first pass: its projection maps are reused
     std::atomic<long long>* progress = nullptr;  ///< counts directions considered
-    bool photons_only = false;           ///< keep the photons in CausticStage::photons, build no map
+    bool photons_only = false;           ///< build no map: the photons in CausticStage::photons alone
     int pass = 0;                        ///< the pass's place in its group's sequence of directions
     int group = 0;                       ///< its replicate group: each group's directions are their own sequence
     std::vector<Photon>* reuse = nullptr; ///< memory for the photons (PhotonPassSettings::reuse)

@@ -12,7 +12,7 @@ constexpr float pi = 3.14159265358979323846f;
 constexpr float cone_k = 1.1f;
 }  // namespace
 
-PhotonMap::PhotonMap(std::vector<Photon> photons) {
+PhotonMap::PhotonMap(const std::vector<Photon>& photons) {
     std::vector<glm::vec3> positions(photons.size());
     for (std::size_t i = 0; i < photons.size(); ++i) positions[i] = photons[i].position;
     tree_ = PhotonKdTree(std::move(positions));

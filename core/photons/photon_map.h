@@ -34,8 +34,8 @@ struct ClassicEstimate {
 class PhotonMap {
 public:
     PhotonMap() = default;
-    /// Builds the k-D tree (O(n log n)) and stores the photons in its order.
-    explicit PhotonMap(std::vector<Photon> photons);
+    /// Builds the k-D tree (O(n log n)) and stores a copy of the photons in its order.
+    explicit PhotonMap(const std::vector<Photon>& photons);
     /// The photons, in tree order.
     const std::vector<Photon>& photons() const { return photons_; }
 

@@ -311,11 +311,9 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         const double progress_scale = static_cast<double>(given) / static_cast<double>(std::max(count, 1LL));
         // Refuse before anything is allocated for photons; margin for the map's padding.
         expected_photons += static_cast<double>(count) * (map ? std::min(1.0, 1.1 * report.occupied_fraction) : 1.0);
-        if (count > given)
-            check_photon_memory(expected_photons, count, settings.memory_budget_bytes,
-                                (std::string("--photons-per-pixel raised ") + count_option + " to").c_str());
-        else
-            check_photon_memory(expected_photons, count, settings.memory_budget_bytes, count_option);
+        check_photon_memory(expected_photons, count, settings.memory_budget_bytes,
+                            count > given ? (std::string("--photons-per-pixel raised ") + count_option + " to").c_str()
+                                          : count_option);
         const auto t0 = std::chrono::steady_clock::now();
         const glm::vec3 energy = photon_energy(light, settings.unit_distance, count, settings.energy_fudge);
         const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;
