@@ -54,6 +54,20 @@ void ProgressiveIntegrator::trace_samples8(const Ray* rays, const int* valid, Ra
     });
 }
 
+bool ProgressiveIntegrator::survives(glm::vec3& weight, float& gain, RandomStream& random) const {
+    gain = 1.0f;
+    const float w = max_component(weight);
+    if (!(w >= params_.min_weight)) return false;
+    if (w >= params_.roulette_weight) return true;
+    // Russian roulette: the branch's expected radiance is unchanged, and a pixel traces the tree's
+    // faint branches (the third internal reflection in glass) only now and then.
+    const float chance = w / params_.roulette_weight;
+    if (random.uniform() >= chance) return false;
+    gain = 1.0f / chance;
+    weight *= gain;
+    return true;
+}
+
 float ProgressiveIntegrator::medium_index(int material) const {
     return material < 0 ? 1.0f : setup_.scene->materials()[material].refractive_index;
 }
@@ -157,10 +171,11 @@ glm::vec3 ProgressiveIntegrator::shade(const Ray& ray, const SurfaceHit& hit, co
         next.distance = path.distance + hit.t;
         next.known_visibility = nullptr;
         next.weight = path.weight * glm::min(m.ks, glm::vec3(1.0f));
-        if (max_component(next.weight) >= params_.min_weight) {
+        float gain;
+        if (survives(next.weight, gain, random)) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), setup_.scene->epsilon(), ray_infinity};
-            colour += m.ks * trace(reflected, next, random, counters);
+            colour += gain * m.ks * trace(reflected, next, random, counters);
         }
     }
     return saturate(colour);
@@ -247,22 +262,23 @@ glm::vec3 ProgressiveIntegrator::dielectric(const Ray& ray, const SurfaceHit& hi
     next.depth += 1;
     next.distance = path.distance + hit.t;
     next.known_visibility = nullptr;
+    float gain;
     if (reflectance > 0.0f) {
         next.weight = path.weight * glm::min(specular, glm::vec3(1.0f)) * reflectance;
-        if (max_component(next.weight) >= params_.min_weight) {
+        if (survives(next.weight, gain, random)) {
             ++counters.reflected;
             const Ray reflected{hit.position, glm::reflect(ray.direction, n), eps, ray_infinity};
-            colour += specular * reflectance * trace(reflected, next, random, counters);
+            colour += gain * specular * reflectance * trace(reflected, next, random, counters);
         }
     }
     glm::vec3 direction;
     if (reflectance < 1.0f && refract_direction(ray.direction, n, n1, n2, direction)) {
         next.weight = path.weight * (1.0f - reflectance);
         next.media = media.after;
-        if (max_component(next.weight) >= params_.min_weight) {
+        if (survives(next.weight, gain, random)) {
             ++counters.refracted;
             const Ray refracted{hit.position, direction, eps, ray_infinity};
-            colour += (1.0f - reflectance) * trace(refracted, next, random, counters);
+            colour += gain * (1.0f - reflectance) * trace(refracted, next, random, counters);
         }
     }
     return colour;

@@ -17,6 +17,7 @@ namespace caustica {
 struct ProgressiveParams {
     int max_depth = 8;            ///< recursion limit (--max-depth)
     float min_weight = 1e-3f;     ///< path weight cut (--min-weight)
+    float roulette_weight = 0.0f; ///< below it a path goes on at random (--roulette-weight; 0 = off)
     int caustic_neighbours = 5;   ///< N of the single pass's estimate
     float caustic_max_distance = 0.15f;
     PhotonFilter caustic_filter = PhotonFilter::none;
@@ -32,6 +33,7 @@ struct ProgressiveParams {
         ProgressiveParams p;
         p.max_depth = options.max_depth;
         p.min_weight = static_cast<float>(options.min_weight);
+        p.roulette_weight = static_cast<float>(options.roulette_weight);
         p.caustic_neighbours = options.caustic_num_neighbours;
         p.caustic_max_distance = static_cast<float>(options.effective_caustic_max_dist());
         p.caustic_filter = options.caustic_cone_filter ? PhotonFilter::cone : PhotonFilter::none;
@@ -75,10 +77,11 @@ private:
     /// The state a ray path carries down the recursion.
     struct PathState {
         int depth = 0;
-        /// Throughput deciding the min-weight cut. Each bounce's factor counts at most 1 (ks above
-        /// 1 included), so that the weights of the paths alive at a depth sum to at most 1 and
-        /// no more than 1 / min_weight of them are traced: ks = 1e6 glass cannot make the
-        /// reflection/refraction tree grow as 2^depth.
+        /// Throughput deciding the min-weight cut and the roulette. Each bounce's factor counts at
+        /// most 1 (ks above 1 included), so that the weights of the paths alive at a depth sum to
+        /// at most 1 on average and no more than 1 / min_weight of them are traced on average:
+        /// ks = 1e6 glass cannot make the reflection/refraction tree grow as 2^depth. A path that
+        /// survives the roulette carries its weight divided by its chance to survive.
         glm::vec3 weight{1.0f};
         float distance = 0.0f;  ///< path length from the camera to the ray's origin
         float radius_scale = 1.0f;  ///< the pixel's own multiplier of the pass's gather radius
@@ -96,6 +99,10 @@ private:
                          const glm::vec3& kd, const PathState& path, RandomStream& random,
                          RayCounters& counters) const;
     float medium_index(int material) const;
+    /// Whether a branch of weight `weight` (set in it already) is traced: never below min_weight;
+    /// below roulette_weight with probability max(weight) / roulette_weight, and then `weight`
+    /// and `gain` (what the branch's radiance is multiplied by) are divided by that chance.
+    bool survives(glm::vec3& weight, float& gain, RandomStream& random) const;
     /// kd E at a diffuse hit `distance` along `path` from the camera (its weight, its radius scale).
     glm::vec3 caustic_radiance(const SurfaceHit& hit, const glm::vec3& n, const glm::vec3& kd, const PathState& path,
                                float distance, RayCounters& counters) const;

@@ -245,6 +245,8 @@ const std::vector<OptionSpec>& option_table() {
                 64).feeds(stage_photons | stage_image),
         real("min-weight", "optics", "progressive: end a ray path when its weight falls below this (classic: its view-ray cut at 0.02 luma)", &Options::min_weight, 0.0, 1.0)
             .feeds(stage_image),
+        real("roulette-weight", "optics", "progressive: a ray path whose weight falls below this goes on at random, with probability weight / D, carrying D (the same image on average from fewer rays; 0 = off; classic: unused)", &Options::roulette_weight, 0.0, 1.0)
+            .feeds(stage_image),
         flag("no-soft-shadows", 0, "lights", "treat spherical lights as points", &Options::no_soft_shadows)
             .feeds(stage_image),
         OptionSpec{"shadow-grid", 0, "N", "lights", "soft shadows: N x N samples on a spherical light (turns soft shadows on)",

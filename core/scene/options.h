@@ -79,6 +79,9 @@ struct Options {
     double photons_per_pixel = 0.0;
     int max_depth = 8;             ///< recursion limit for reflection/refraction
     double min_weight = 1e-3;      ///< stop a ray path when its weight falls below this
+    /// progressive: a ray path whose weight falls below this continues with probability
+    /// weight / roulette_weight, carrying roulette_weight (0: every path above min_weight traced)
+    double roulette_weight = 0.05;
     double script_timeout = 60.0;  ///< seconds of script evaluation, 0 = none
     long long script_memory_mib = 2048;  ///< budget of the script (Lua heap + what it makes C++ hold), 0 = none
     long long render_memory_mib = 0;     ///< budget of what the renderer builds, 0 = default_render_memory_bytes()

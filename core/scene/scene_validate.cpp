@@ -201,6 +201,8 @@ void check_options(const Options& o) {
     if (o.caustic_num_neighbours < 1 || o.caustic_num_neighbours > 1'000'000)
         refuse("caustic-num-neighbours", o.caustic_num_neighbours);
     if (!(std::isfinite(o.min_weight) && o.min_weight >= 0.0)) refuse("min-weight", o.min_weight);
+    if (!(std::isfinite(o.roulette_weight) && o.roulette_weight >= 0.0 && o.roulette_weight <= 1.0))
+        refuse("roulette-weight", o.roulette_weight);
     if (o.max_depth < 0 || o.max_depth > 64) refuse("max-depth", o.max_depth);
     if (o.aa_grid < 1 || o.aa_grid > 16) refuse("aa-grid", o.aa_grid);
     if (o.shadow_grid < 1 || o.shadow_grid > 64) refuse("shadow-grid", o.shadow_grid);

@@ -2,6 +2,7 @@
 // keeps energy whatever the projection maps, the thread count or the scale, and is bit-identical
 // for any thread count with --reproducible. Each test is sized to run in about a second in Release;
 // under the sanitizers (CAUSTICA_SANITIZED) the longer ones do less (fewer passes, lights, scales).
+#include "tests/scene_test_helpers.h"
 #include "tests/test_support.h"
 
 #include "core/scene/camera.h"
@@ -349,4 +350,74 @@ TEST(ProgressiveConvergence, ReproducibleAccumulationIsBitIdenticalForAnyThreadC
             EXPECT_EQ(differing, 0u) << (gi ? "--gi, " : "caustics, ") << t + 1 << " threads against 1";
         }
     }
+}
+
+// ---- the roulette of faint paths ------------------------------------------------------------
+
+namespace {
+
+/// A glass ball (index 1.5, ks 1) before a uniform grey sky, with no light and no ambient: every
+/// path ends in the sky, and at each surface the reflected and the refracted branches carry R and
+/// 1 - R, so every pixel shows the sky's 0.5 whatever the path tree (the ball is invisible). No
+/// weight cut, and depth 32: only rays grazing the silhouette, reflected inside with R near 1,
+/// lose anything.
+RenderJob invisible_ball(double roulette_weight) {
+    RenderJob job = caustica::testing::load_first_job(R"(
+glass = gr.material({0, 0, 0}, {1, 1, 1}, 0)
+glass:set_ri(1.5)
+ball = gr.sphere('ball')
+ball:set_material(glass)
+root = gr.node('root')
+root:add_child(ball)
+gr.set_miss_colour({0.5, 0.5, 0.5})
+gr.render(root, 'ball.png', 24, 24, {0, 0, 4}, {0, 0, -1}, {0, 1, 0}, 40, {0, 0, 0}, {})
+)");
+    job.options.integrator = IntegratorKind::progressive;
+    job.options.min_weight = 0.0;
+    job.options.max_depth = 32;
+    job.options.roulette_weight = roulette_weight;
+    return job;
+}
+
+}  // namespace
+
+// Without the roulette every branch is traced and the pixels are 0.5 to rounding. With it at 1
+// (every branch goes on at random, with probability its weight) a pass is noisy but its mean is
+// still 0.5: over 64 passes the image mean is within 4 standard errors (from the spread of the
+// passes' means) of 0.5, with far fewer rays. A roulette whose survivors did not carry their
+// weight divided by their chance would read far below 0.5 (the entry alone costs R or 1 - R).
+TEST(ProgressiveRoulette, FaintBranchesTracedAtRandomKeepTheImageOnAverage) {
+    RenderJob full = invisible_ball(0.0);
+    full.options.passes = 4;
+    RenderSession session;
+    session.set_job(full);
+    session.start();
+    ASSERT_TRUE(session.wait());
+    const Image exact = session.image();
+    const std::uint64_t full_rays = session.stats().rays.reflected + session.stats().rays.refracted;
+    // Only a pixel whose jittered sample grazes the silhouette may lose anything (two measured).
+    int exact_pixels = 0;
+    for (const glm::vec3& c : exact.pixels) {
+        ASSERT_NEAR(c.x, 0.5f, 1e-3f);
+        exact_pixels += std::fabs(c.x - 0.5f) <= 1e-5f;
+    }
+    EXPECT_GE(exact_pixels, static_cast<int>(exact.pixels.size()) - 4);
+    EXPECT_NEAR(image_mean(exact), 0.5, 1e-5);
+
+    const int passes = sanitized_build ? 16 : 64;
+    const MeanAndError at_random = accumulate_one_pass_at_a_time(invisible_ball(1.0), passes);
+    std::printf("roulette 1: mean %.5f +- %.5f over %d passes\n", at_random.mean, at_random.sigma, passes);
+    EXPECT_GT(at_random.sigma, 1e-4);  // the roulette did make the passes differ
+    EXPECT_NEAR(at_random.mean, 0.5, 4.0 * at_random.sigma);
+    EXPECT_NEAR(image_mean(at_random.image), 0.5, 4.0 * at_random.sigma);
+    // Fewer rays: a pass with the roulette at 1 traces one branch per surface on average.
+    RenderJob one = invisible_ball(1.0);
+    one.options.passes = 4;
+    session.set_job(one);
+    session.start();
+    ASSERT_TRUE(session.wait());
+    const std::uint64_t random_rays = session.stats().rays.reflected + session.stats().rays.refracted;
+    std::printf("secondary rays in 4 passes: %llu traced in full, %llu at random\n",
+                static_cast<unsigned long long>(full_rays), static_cast<unsigned long long>(random_rays));
+    EXPECT_LT(random_rays, full_rays * 3 / 4);
 }

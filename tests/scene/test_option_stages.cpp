@@ -52,6 +52,7 @@ const std::map<std::string, std::vector<std::string>>& other_values() {
         {"disable-csg-bb", {"--disable-csg-bb"}},
         {"max-depth", {"--max-depth 2"}},
         {"min-weight", {"--min-weight 0.3"}},
+        {"roulette-weight", {"--roulette-weight 0.3"}},
         {"no-soft-shadows", {"--no-soft-shadows"}},
         {"shadow-grid", {"--shadow-grid 2"}},
         {"rays", {"--rays"}},
