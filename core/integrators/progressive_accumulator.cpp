@@ -3,6 +3,7 @@
 #include "core/render/image_error.h"
 #include "core/util/huge_pages.h"
 #include "core/util/parallel.h"
+#include "core/util/rounding.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +28,7 @@ double clamp_value(double x, double lo, double hi) {
 }
 
 /// x in units of 2^-16, |x| < 2^16.
-std::int64_t to_stat(double x) { return std::llround(clamp_value(x, -stat_limit, stat_limit) * stat_unit); }
+std::int64_t to_stat(double x) { return round_half_away(clamp_value(x, -stat_limit, stat_limit) * stat_unit); }
 
 /// Adds q and q^2 (exactly, in two parts) to three sums.
 void add_with_square(std::int64_t* sum, std::int64_t* square_high, std::int64_t* square_low, std::int64_t q) {
@@ -117,7 +118,7 @@ glm::vec3 ProgressiveAccumulator::add(std::size_t index, const PassSample& sampl
         const double scaled = clamp_value(static_cast<double>(sample.colour[c]), -colour_limit, colour_limit) * colour_high_unit;
         const double high = std::floor(scaled);
         s[colour_high + c] += static_cast<std::int64_t>(high);
-        s[colour_low + c] += std::llround((scaled - high) * colour_low_unit);
+        s[colour_low + c] += round_half_away((scaled - high) * colour_low_unit);
     }
     const double v = channel_mean(sample.colour);
     add_with_square(&s[value], &s[value2_high], &s[value2_low], to_stat(v));
