@@ -86,6 +86,17 @@ smoke bench_preview build/bench_preview --changes 3 --frames 30
 smoke caustic_error build/caustic_error --quick
 smoke trade build/trade --quick --out "$out/trade"   # speed against accuracy (docs/ACCURACY.md)
 smoke image_diff build/image_diff "$out/trade/trade-default.png" "$out/trade/trade-default.png"
+# image_diff reads float images: a PFM against itself differs by 0, against the same render's
+# 8-bit PNG (values truncated to 1/255) by more than 0 and less than the quantisation.
+image_diff_floats() {
+    local d="$out/diff" r
+    mkdir -p "$d"
+    for f in pfm png; do build/caustica render --reproducible --minres scenes/default.lua -o "$d/x.$f" >/dev/null; done
+    r=$(build/image_diff "$d/x.pfm" "$d/x.pfm") && echo "$r" && [[ $r == rmse=0.000000\ * ]] &&
+        r=$(build/image_diff "$d/x.png" "$d/x.pfm") && echo "$r" &&
+        awk -v r="$r" 'BEGIN { split(r, f, "[= ]"); exit !(f[2] > 0 && f[2] < 1 / 255) }'
+}
+smoke image_diff-floats image_diff_floats
 smoke side_by_side build/side_by_side "$out/pair.png" "$out/trade/trade-default.png" "$out/trade/trade-glass_of_liquid.png"
 smoke scaling bench/scaling.sh --quick   # mpirun against threads (docs/SCALING.md)
 smoke peers env OUT="$out/peers" CYCLES=0 bench/peers/run.sh --quick   # against POV-Ray (docs/PEERS.md)
