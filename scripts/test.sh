@@ -101,5 +101,6 @@ smoke side_by_side build/side_by_side "$out/pair.png" "$out/trade/trade-default.
 smoke scaling bench/scaling.sh --quick   # mpirun against threads (docs/SCALING.md)
 smoke peers env OUT="$out/peers" CYCLES=0 bench/peers/run.sh --quick   # against POV-Ray (docs/PEERS.md)
 smoke peers-progressive env OUT="$out/peers-progressive" CYCLES=0 bench/peers/run.sh --progressive --quick
+smoke float_race env OUT="$out/float-race" bench/peers/float_race.sh --quick   # in floats (docs/PEERS.md)
 rm -rf "$out"
 echo "benchmarks and tools ran"

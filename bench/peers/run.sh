@@ -52,10 +52,7 @@
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
-root=$(cd "$here/../.." && pwd)
-build=${BUILD:-$root/build}
-out=${OUT:-$root/out/peers}
-threads=${THREADS:-2}
+source "$here/common.sh"
 size=${SIZE:-512}
 repeats=${REPEATS:-3}
 levels=${LEVELS:-"10000 30000 100000 300000"}
@@ -123,19 +120,13 @@ declare -A resolution_flag=([256]=--lores [512]=--midres [1024]=--hires)
 [[ -n "${resolution_flag[$size]:-}" ]] || { echo "run.sh: SIZE must be 256, 512 or 1024" >&2; exit 2; }
 mkdir -p "$out"
 
-# The caustic region of each scene, in pixels of a 512 x 512 render (scaled for other sizes):
-# X0 Y0 X1 Y1, and whether only the pixels that are black without caustics count (the shadow
-# of a transparent object, lit by the caustic alone; without ambient light the rest is lit
-# directly, identically at every photon count, and would only dilute the error).
-declare -A region=([glass_sphere]="150 292 470 420" [ring]="200 125 395 375" [glass_of_liquid]="344 205 512 340")
-declare -A shadow_only=([glass_sphere]=1 [ring]=0 [glass_of_liquid]=1)
+# The caustic regions and shadow masks (region, shadow_only) are in common.sh.
 # A crop around the caustic for the detail row of the side-by-side images (512-pixel units).
 declare -A detail=([glass_sphere]="176 272 432 400" [ring]="192 112 448 368" [glass_of_liquid]="256 200 512 328")
 # A patch of floor lit directly and by nothing else (no caustic, no reflection), to check that
 # the renderers' direct light agrees (512-pixel units).
 declare -A lit_patch=([glass_sphere]="20 400 120 500" [ring]="380 20 500 80" [glass_of_liquid]="40 400 160 480")
 
-scaled() { local v out_=(); for v in $1; do out_+=($((v * size / 512))); done; echo "${out_[*]}"; }
 
 # wall SECONDS_FILE LOG COMMAND...: runs the command with its output in LOG, writes its wall time.
 wall() {
@@ -154,9 +145,6 @@ povray_run() {
   wall "$3.time" "$3.log" povray -D -V +WT"$threads" -A +W"$size" +H"$size" +FN File_Gamma=1.0 \
     Declare=Photons="$2" Declare=Gather="$neighbours" Declare=Radius="$pov_radius" +I"$here/$1.pov" +O"$3"
 }
-# Photon directions a progressive pass shoots when PP_PHOTONS is not set: the glass of liquid's
-# cup covers ~0.45% of the lamp's sphere (the glass sphere and the ring ~1%), so it gets more.
-declare -A scene_pp_photons=([glass_sphere]=3000000 [ring]=3000000 [glass_of_liquid]=20000000)
 # caustica_passes SCENE PASSES DIRECTIONS PNG [RADIUS]: one progressive accumulation (RADIUS: its first
 # radius in pixel footprints); PNG.log and PNG.time.
 # (--time 1e6, never reached, makes --passes 1 an accumulation's first pass rather than the single
