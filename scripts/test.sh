@@ -87,14 +87,19 @@ smoke caustic_error build/caustic_error --quick
 smoke trade build/trade --quick --out "$out/trade"   # speed against accuracy (docs/ACCURACY.md)
 smoke image_diff build/image_diff "$out/trade/trade-default.png" "$out/trade/trade-default.png"
 # image_diff reads float images: a PFM against itself differs by 0, against the same render's
-# 8-bit PNG (values truncated to 1/255) by more than 0 and less than the quantisation.
+# 8-bit PNG (values truncated to 1/255) by more than 0 and less than one step, against its
+# half-float EXR by more than 0 and less than half-float rounding (2^-11 of values up to 1).
 image_diff_floats() {
     local d="$out/diff" r
     mkdir -p "$d"
-    for f in pfm png; do build/caustica render --reproducible --minres scenes/default.lua -o "$d/x.$f" >/dev/null; done
+    for f in pfm png exr; do build/caustica render --reproducible --minres scenes/default.lua -o "$d/x.$f" >/dev/null; done
+    rmse_between() {  # rmse_between A B LOW HIGH: image_diff A B, its rmse in (LOW, HIGH)
+        r=$(build/image_diff "$1" "$2") && echo "$r" &&
+            awk -v r="$r" -v lo="$3" -v hi="$4" 'BEGIN { split(r, f, "[= ]"); exit !(f[2] > lo && f[2] < hi) }'
+    }
     r=$(build/image_diff "$d/x.pfm" "$d/x.pfm") && echo "$r" && [[ $r == rmse=0.000000\ * ]] &&
-        r=$(build/image_diff "$d/x.png" "$d/x.pfm") && echo "$r" &&
-        awk -v r="$r" 'BEGIN { split(r, f, "[= ]"); exit !(f[2] > 0 && f[2] < 1 / 255) }'
+        rmse_between "$d/x.png" "$d/x.pfm" 0 "$(awk 'BEGIN { print 1 / 255 }')" &&
+        rmse_between "$d/x.exr" "$d/x.pfm" 0 "$(awk 'BEGIN { print 2 ^ -11 }')"
 }
 smoke image_diff-floats image_diff_floats
 smoke side_by_side build/side_by_side "$out/pair.png" "$out/trade/trade-default.png" "$out/trade/trade-glass_of_liquid.png"

@@ -21,6 +21,10 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::string out = argv[1];
+    if (out.size() < 4 || out.compare(out.size() - 4, 4, ".pfm") != 0) {
+        std::fprintf(stderr, "image_mean: the output is a PFM (OUT.pfm), got %s\n", out.c_str());
+        return 2;
+    }
     Image sum;
     const int count = argc - 2;
     try {
