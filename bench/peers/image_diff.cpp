@@ -22,7 +22,6 @@
 // Exit status: 0 on success, 2 on a usage error, unreadable files, non-finite values or mismatched
 // sizes.
 #include "core/io/image_io.h"
-#include "core/io/png_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -32,9 +31,7 @@
 #include <string>
 
 using caustica::Image;
-using caustica::Png8;
 using caustica::read_image_file;
-using caustica::read_png;
 
 namespace {
 
@@ -43,22 +40,16 @@ struct Rect {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
-/// Channel c (0..2) of pixel (x, y) of an 8-bit image in [0, 1]; gray images repeat their value.
-double channel(const Png8& image, int x, int y, int c) {
-    const std::size_t base = (static_cast<std::size_t>(y) * image.width + x) * image.channels;
-    const int index = image.channels >= 3 ? c : 0;
-    return image.data[base + index] / 255.0;
+/// Channel c of pixel (x, y) of an image read in any format, clamped to [0, 1] (a PNG's values / 255).
+double shown(const Image& image, int x, int y, int c) {
+    return std::clamp(static_cast<double>(image.at(x, y)[c]), 0.0, 1.0);
 }
 
-/// Channel c of pixel (x, y) of an image read in any format, clamped to [0, 1].
-double shown(const Image& image, int x, int y, int c) { return std::clamp(static_cast<double>(image.at(x, y)[c]), 0.0, 1.0); }
-
-/// Whether the mask selects pixel (x, y): any of its colour channels is non-zero.
-bool selected(const Png8& mask, int x, int y) {
-    const int colours = mask.channels >= 3 ? 3 : 1;
-    for (int c = 0; c < colours; ++c)
-        if (channel(mask, x, y, c) > 0.0) return true;
-    return false;
+/// Whether the mask selects pixel (x, y): any of its channels is non-zero (a gray mask's value is
+/// in all three).
+bool selected(const Image& mask, int x, int y) {
+    const glm::vec3& v = mask.at(x, y);
+    return v.x > 0.0f || v.y > 0.0f || v.z > 0.0f;
 }
 
 int usage(const char* message) {
@@ -98,12 +89,11 @@ int main(int argc, char** argv) {
     }
     if (reference_path.empty()) return usage("two images are needed");
 
-    Image test, reference;
-    Png8 mask;
+    Image test, reference, mask;
     try {
         test = read_image_file(test_path);
         reference = read_image_file(reference_path);
-        if (!mask_path.empty()) mask = read_png(mask_path);
+        if (!mask_path.empty()) mask = read_image_file(mask_path);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "image_diff: %s\n", e.what());
         return 2;

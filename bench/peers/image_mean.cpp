@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <exception>
 #include <string>
-#include <vector>
 
 using caustica::Image;
 

@@ -127,7 +127,6 @@ declare -A detail=([glass_sphere]="176 272 432 400" [ring]="192 112 448 368" [gl
 # the renderers' direct light agrees (512-pixel units).
 declare -A lit_patch=([glass_sphere]="20 400 120 500" [ring]="380 20 500 80" [glass_of_liquid]="40 400 160 480")
 
-
 # wall SECONDS_FILE LOG COMMAND...: runs the command with its output in LOG, writes its wall time.
 wall() {
   local seconds=$1 log=$2 TIMEFORMAT=%R
