@@ -306,12 +306,14 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
     // (i + 1); each pixel averages its passes' jittered samples. Noise and bias both vanish as
     // passes grow, in memory fixed by the image size. r_1 at a gather is --accumulation-radius
     // pixel footprints there (the path length from the camera times a pixel's angle; at most the
-    // maximum distance): the blur starts below a few pixels wherever the caustic is seen.
+    // maximum distance): the blur starts below a few pixels wherever the caustic is seen. alpha is
+    // 2/3 unless --radius-alpha says otherwise (1: a fixed radius, whose image converges to that
+    // radius's blur: the stored references are made so).
     // No pass depends on another, so passes can run anywhere: with K ranks the passes go in
     // rounds, rank k running pass round K + k. Their integer sums add up to one process's.
-    constexpr double alpha = 2.0 / 3.0;
     const RenderJob& job = host.job();
     const Options& options = job.options;
+    const double alpha = options.radius_alpha;
     Cluster* const cluster = host.cluster();
     const bool shared = cluster && cluster->size() > 1;
     const std::atomic<bool>& cancel = host.cancel_flag();

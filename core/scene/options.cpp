@@ -304,6 +304,10 @@ const std::vector<OptionSpec>& option_table() {
              "progressive accumulation: the first gather radius, in pixel footprints where it gathers (shrinking "
              "pass by pass; at most --caustic-max-dist)",
              &Options::accumulation_radius, 1e-3, 1e3).feeds(stage_image),
+        real("radius-alpha", "caustics",
+             "progressive accumulation: how slowly the gather radius shrinks, r^2 <- r^2 (i + D) / (i + 1) after "
+             "pass i; 1 keeps the first radius (the image then converges to that radius's blur: for references)",
+             &Options::radius_alpha, 0.05, 1.0).feeds(stage_image),
         choice<ProjectionMapMode>("projection-map", "MODE", "caustics",
                                   "auto|on|off: use light projection maps when shooting photons", &Options::projection_map,
                                   {{"auto", ProjectionMapMode::automatic},

@@ -66,6 +66,8 @@ struct Options {
     int caustic_pm_gran = 180;
     double caustic_max_dist = -1.0;  ///< < 0: 0.15 x unit distance
     double accumulation_radius = 3.0;  ///< progressive accumulation: first gather radius in pixel footprints
+    /// progressive accumulation: r^2_{i+1} = r^2_i (i + alpha) / (i + 1); 1 keeps the first radius
+    double radius_alpha = 2.0 / 3.0;
     ProjectionMapMode projection_map = ProjectionMapMode::automatic;
     int shadow_grid = 4;
     double unit_distance = 1.0;

@@ -74,6 +74,7 @@ const std::map<std::string, std::vector<std::string>>& other_values() {
         {"caustic-pm-gran", {"--caustic-pm-gran 40"}},
         {"caustic-max-dist", {"--caustic-max-dist 0.1"}},
         {"accumulation-radius", {"--accumulation-radius 1"}},
+        {"radius-alpha", {"--radius-alpha 1"}},
         {"projection-map", {"--projection-map off"}},
         {"caustic-filter", {"--caustic-filter cone"}},
         {"adaptive-radius", {"--adaptive-radius on"}},
