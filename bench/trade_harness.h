@@ -41,6 +41,9 @@ struct TradeScene {
     Image reference;
     std::vector<std::size_t> region;  ///< pixel indices of the caustic region
     std::string reference_kind;       ///< "analytic" or the reference file
+    /// The reference's own noise (relative RMSE over the caustic region; 0: none or unknown). A
+    /// run's error against it is sqrt(true^2 + noise^2) on average, the two being independent.
+    double reference_noise = 0.0;
     std::vector<long long> sweep, quick_sweep;  ///< photon counts of the full and --quick sweeps
 };
 

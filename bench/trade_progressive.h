@@ -29,6 +29,7 @@ struct ProgressivePoint {
     int passes = 0;
     double seconds = 0.0;       ///< photon stages + image passes, summed from the start (no scene build)
     ImageError error;           ///< against the reference
+    double rel_rmse_less_noise = 0.0;  ///< error.rel_rmse with the reference's own noise taken out in quadrature
     double estimate = -1.0;     ///< the renderer's estimated relative error (< 0: unknown)
     double noise = 0.0, bias = 0.0;  ///< its two parts
     double first_radius = 0.0, radius = 0.0;
@@ -43,12 +44,13 @@ std::vector<ProgressivePoint> progressive_curve(const TradeScene& scene, const P
 /// converges to), from `passes` jittered samples of the mirrored light's direct illumination.
 Image pixel_averaged_virtual_light(const TradeScene& scene, int passes, int threads);
 
-/// How a pixel-averaged reference of a Lua scene is made: two long accumulations, averaged.
+/// How a pixel-averaged reference of a Lua scene is made: two long accumulations at a fixed radius
+/// (--radius-alpha 1), averaged.
 struct ProgressiveRecipe {
     const char* name;    ///< of the ReferenceRecipe whose scene it renders
     int width, height;
     long long photons;   ///< per pass
-    double radius;       ///< --accumulation-radius
+    double radius;       ///< --accumulation-radius, kept for every pass
     double max_dist;
     int passes;          ///< in all: two accumulations (seeds 1, 2) of passes / 2 each
 };
