@@ -337,16 +337,15 @@ int run_progressive(const Settings& settings) {
             // The estimate against the measured error, and against it less the reference's own noise
             // (from pass 4 on, where the estimate is asked to hold).
             double ratio_min = 1e30, ratio_max = 0.0, less_min = 1e30, less_max = 0.0;
+            auto widen = [](double& lo, double& hi, double estimate, double truth) {
+                if (!(truth > 0.0)) return;
+                lo = std::min(lo, estimate / truth);
+                hi = std::max(hi, estimate / truth);
+            };
             for (const ProgressivePoint& p : points) {
                 if (p.passes < 4 || !(p.estimate > 0.0)) continue;
-                if (p.error.rel_rmse > 0.0) {
-                    ratio_min = std::min(ratio_min, p.estimate / p.error.rel_rmse);
-                    ratio_max = std::max(ratio_max, p.estimate / p.error.rel_rmse);
-                }
-                if (p.rel_rmse_less_noise > 0.0) {
-                    less_min = std::min(less_min, p.estimate / p.rel_rmse_less_noise);
-                    less_max = std::max(less_max, p.estimate / p.rel_rmse_less_noise);
-                }
+                widen(ratio_min, ratio_max, p.estimate, p.error.rel_rmse);
+                widen(less_min, less_max, p.estimate, p.rel_rmse_less_noise);
             }
             std::printf("progressive %-16s slope %+.3f in time over %.2f decades (%.3f .. %.3f s); estimate / true %.2f .. %.2f "
                         "from 4 passes (%.2f .. %.2f with the reference's noise %.4f taken out)\n",
