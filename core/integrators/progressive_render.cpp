@@ -3,6 +3,7 @@
 #include "core/geometry/render_scene.h"
 #include "core/integrators/progressive.h"
 #include "core/photons/caustic_stage.h"
+#include "core/photons/guided_emission.h"
 #include "core/scene/camera.h"
 #include "core/render/random.h"
 #include "core/render/render_session.h"
@@ -205,6 +206,7 @@ void ProgressiveRender::adapt_radii(Cluster* cluster, const std::atomic<bool>& c
 void ProgressiveRender::invalidate() {
     state_.valid = false;
     std::vector<Photon>().swap(spare_photons_);
+    emission_weights_.clear();
     layer_sums_.clear();
     snapshot_wanted_ = false;
     std::lock_guard lock(snapshot_mutex_);
@@ -333,6 +335,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         acc.valid = !shared;  // the ranks' sums are added up at the end: nothing to resume
         acc.seed = context.seed;
         restored_ = false;
+        emission_weights_.clear();
     }
     const int limit = options.pass_limit();  // 0 = none
     const double segment_start = now_seconds(), seconds_before = acc.seconds;
@@ -402,6 +405,18 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         const double radius = typical_first_radius(host.scene(), *context.camera, job, setup);
         if (shared || !cancel) acc.typical_radius = radius;
     }
+    // --guided-emission: the cells' weights from the first pass's photons, once per accumulation
+    // (again after a resume: they are a function of the first pass and the camera, the same bits).
+    if (options.guided_emission && has_photons && emission_weights_.empty() && acc.typical_radius > 0.0) {
+        const auto t_learn = std::chrono::steady_clock::now();
+        EmissionView view;
+        view.eye = glm::vec3(job.camera.eye);
+        view.radius_per_distance = static_cast<float>(options.accumulation_radius) * setup.dot_radius_per_distance;
+        view.max_radius = static_cast<float>(options.effective_caustic_max_dist());
+        view.grid_cell = static_cast<float>(grid_cell_factor * acc.typical_radius);
+        emission_weights_ = learn_emission_weights(*first_stage, view, grid_, &cancel);
+        host.add_stage_time("photon passes", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_learn).count());
+    }
     double last_round_seconds = 0.0, radius_log_before = 0.0, grid_seconds = 0.0;
     std::uint64_t radius_samples_before = 0;
     int next_error_check = 0;  // shared: the round whose end estimates the error (with --target-error)
@@ -453,6 +468,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 extras.pass = p / replicate_groups;
                 extras.group = p % replicate_groups;
                 extras.reuse = &spare_photons_;
+                extras.emission_weights = emission_weights_.empty() ? nullptr : &emission_weights_;
                 host.photon_progress() = 0;
                 host.report([&](SessionProgress& progress, RenderStats&) {
                     progress.photons_done = 0;

@@ -84,6 +84,9 @@ private:
     std::optional<AccumulationState> snapshot_;
     PhotonGrid grid_;  // the pass's photons (its buffers reused pass after pass)
     std::vector<Photon> spare_photons_;  // the last pass's photon buffer, for the next to fill
+    /// --guided-emission: per light the weights of its projection map's cells, learnt from the
+    /// first pass for this camera (empty: plain emission, or not learnt yet).
+    std::vector<std::vector<float>> emission_weights_;
     // --layers: per written layer, per pixel, the sum of its samples; empty unless every pass of
     // the accumulation added to them.
     std::vector<std::vector<glm::dvec3>> layer_sums_;

@@ -166,10 +166,19 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     settings.reuse = extras.reuse;
     if (extras.first) {  // a later pass: the first pass's projection maps, as it used them
         settings.prebuilt_maps.assign(lights.size(), nullptr);
-        for (std::size_t l = 0; l < lights.size() && l < extras.first->lights.size(); ++l)
+        settings.emission_weights.assign(lights.size(), nullptr);
+        for (std::size_t l = 0; l < lights.size() && l < extras.first->lights.size(); ++l) {
             if (extras.first->lights[l].projection_map_used && l < extras.first->projection_maps.size())
                 settings.prebuilt_maps[l] = &extras.first->projection_maps[l];
+            if (settings.prebuilt_maps[l] && extras.emission_weights && l < extras.emission_weights->size() &&
+                !(*extras.emission_weights)[l].empty())
+                settings.emission_weights[l] = &(*extras.emission_weights)[l];
+        }
     }
+    // Guided emission learns from the first pass, which shoots as without it: a function of the
+    // scene, the camera and the options alone, so every rank, and a resumed render, learns the
+    // same weights.
+    settings.record_cells = o.guided_emission && !extras.first;
     PhotonPassResult pass = shoot_caustic_photons(scene, lights, settings, cancel);
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const LightPhotonReport& r = pass.lights[l];
@@ -185,6 +194,8 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
     // A cancelled pass is thrown away: no tree, and no maps (one may have been cut short).
     if (cancel && cancel->load()) return;
     stage.projection_maps = std::move(pass.maps);
+    if (settings.record_cells)
+        for (LightPhotonReport& r : pass.lights) stage.emission_cells.push_back(std::move(r.cells));
     stage.photon_pass = settings.photons_per_light > 0;
     stage.photons = std::move(pass.photons);
     // The tree keeps its own copy, in its own order: the passes' grid is given the photons as

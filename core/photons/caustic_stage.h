@@ -51,6 +51,9 @@ struct CausticStage {
     /// Whether the progressive pass shot photons (`photons` may still be empty).
     bool photon_pass = false;
     std::vector<ProjectionMap> projection_maps;
+    /// Progressive, --guided-emission on, the first pass: per light what its occupied cells traced
+    /// and stored (empty without a map), which guided emission learns from (guided_emission.h).
+    std::vector<EmissionCells> emission_cells;
     std::vector<glm::vec3> light_positions;
     std::vector<LightCausticStats> lights;     ///< the caustic pass of each light
     std::vector<LightCausticStats> gi_lights;  ///< the GI pass of each light (classic with GI only)
@@ -93,6 +96,8 @@ struct PhotonPassExtras {
     bool photons_only = false;           ///< build no map: the photons in CausticStage::photons alone
     int pass = 0;                        ///< the pass's place in its group's sequence of directions
     int group = 0;                       ///< its replicate group: each group's directions are their own sequence
+    /// Guided emission: per light the weights of its map's occupied cells (null: plain emission).
+    const std::vector<std::vector<float>>* emission_weights = nullptr;
     std::vector<Photon>* reuse = nullptr; ///< memory for the photons (PhotonPassSettings::reuse)
 };
 

@@ -12,9 +12,11 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace caustica {
 namespace {
@@ -319,14 +321,14 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
         const bool low_discrepancy = settings.emission == PhotonEmission::low_discrepancy;
         std::vector<std::vector<Photon>> stored;
         std::vector<long long> traced;
-        auto shoot = [&](RandomStream& random, const glm::vec3& direction, std::vector<Photon>& out) {
+        auto shoot = [&](RandomStream& random, const glm::vec3& direction, const glm::vec3& power, std::vector<Photon>& out) {
             glm::vec3 origin = light.position;
             if (light.radius > 0.0f) {  // spherical light: leave from its surface
                 glm::vec3 s = sphere_direction(random.uniform(), random.uniform());
                 if (glm::dot(s, direction) < 0.0f) s = -s;
                 origin += light.radius * s;
             }
-            trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, energy, settings.max_depth,
+            trace_photon(scene, Ray{origin, direction, 0.0f, ray_infinity}, power, settings.max_depth,
                          static_cast<float>(settings.unit_distance), settings.global_illumination, settings.split, random,
                          out, cancel);
         };
@@ -338,6 +340,26 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
             // stay evenly spread.
             const OccupiedCells occupied(*map);
             const auto& cells = occupied.cells();
+            // Guided emission: cell c gets its share times m_c of the count, each of its photons
+            // the energy of 1 / m_c directions; the m_c are the weights scaled so that the shares
+            // still add up to the occupied fraction (the count is kept).
+            const std::vector<float>* weights = l < settings.emission_weights.size() ? settings.emission_weights[l] : nullptr;
+            if (weights && weights->size() != cells.size()) weights = nullptr;
+            std::vector<double> multiplier;
+            if (weights) {
+                double weighted = 0.0;
+                for (std::size_t c = 0; c < cells.size(); ++c) weighted += cells[c].share * static_cast<double>((*weights)[c]);
+                if (weighted > 0.0 && std::isfinite(weighted)) {
+                    multiplier.resize(cells.size());
+                    for (std::size_t c = 0; c < cells.size(); ++c)
+                        multiplier[c] = static_cast<double>((*weights)[c]) * occupied.fraction() / weighted;
+                }
+            }
+            auto multiplier_of = [&](std::size_t c) { return multiplier.empty() ? 1.0 : multiplier[c]; };
+            if (settings.record_cells) {
+                report.cells.traced.assign(cells.size(), 0);
+                report.cells.stored.assign(cells.size(), 0);
+            }
             // Systematic sampling of the counts: cell c gets floor(C_c + rho) - floor(C_{c-1} + rho)
             // photons, C the cumulative expected count and rho one offset for the pass, so the total
             // is the expected one to a photon and neighbouring cells are rounded in opposite ways.
@@ -351,7 +373,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                 rho -= std::floor(rho);
                 double cumulative = 0.0, cumulative_share = 0.0;
                 for (std::size_t c = 0; c < cells.size(); ++c) {
-                    cumulative += static_cast<double>(count) * cells[c].share;
+                    cumulative += static_cast<double>(count) * cells[c].share * multiplier_of(c);
                     first[c + 1] = static_cast<long long>(std::floor(cumulative + rho));
                     cumulative_share += cells[c].share;
                     if (settings.progress)
@@ -379,6 +401,8 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                         shift_t -= std::floor(shift_t);
                         if (settings.progress)
                             settings.progress->fetch_add(progress_at[c + 1] - progress_at[c], std::memory_order_relaxed);
+                        const glm::vec3 power = multiplier.empty() ? energy : saturate(energy / static_cast<float>(multiplier[c]));
+                        const std::size_t stored_before = stored[b].size();
                         for (long long j = 0; j < n; ++j) {
                             // A cell may hold any share of the count: the flag is read within it.
                             if (j % steps_between_cancel_checks == 0 && is_cancelled(cancel)) return;
@@ -401,7 +425,13 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                                 v = random.uniform();
                             }
                             ++traced[b];
-                            shoot(random, occupied.direction(c, u, v), stored[b]);
+                            shoot(random, occupied.direction(c, u, v), power, stored[b]);
+                        }
+                        if (settings.record_cells) {  // each cell is one thread's: no race
+                            constexpr long long most = std::numeric_limits<std::uint32_t>::max();
+                            report.cells.traced[c] = static_cast<std::uint32_t>(std::min(n, most));
+                            report.cells.stored[c] = static_cast<std::uint32_t>(
+                                std::min(static_cast<long long>(stored[b].size() - stored_before), most));
                         }
                     }
                 }
@@ -434,7 +464,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                             v = random.uniform();
                         }
                         ++traced[static_cast<std::size_t>(b)];
-                        shoot(random, sphere_direction(u, v), stored[static_cast<std::size_t>(b)]);
+                        shoot(random, sphere_direction(u, v), energy, stored[static_cast<std::size_t>(b)]);
                     }
                 }
             });

@@ -10,6 +10,7 @@
 #include "core/geometry/render_scene.h"
 
 #include <atomic>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -48,12 +49,27 @@ struct PhotonPassSettings {
     /// Progressive passes after the first reuse its projection maps: one per light (null = none).
     /// Empty: each light's map is decided and built as usual.
     std::vector<const ProjectionMap*> prebuilt_maps;
+    /// Guided emission (docs/CAUSTICS.md, "Guided emission"): per light, a weight for each occupied
+    /// cell of its map (in OccupiedCells' order; guided_emission.h). A cell's share of
+    /// the directions is multiplied by its weight (the count is kept), its photons' energy divided
+    /// by it. Null, or a size that is not the map's cells: every weight 1.
+    std::vector<const std::vector<float>*> emission_weights;
+    /// Count, per occupied cell of each light's map, the photons traced and stored
+    /// (LightPhotonReport::cells): what guided emission learns from.
+    bool record_cells = false;
     /// When set, counts the directions considered so far (for progress reports).
     std::atomic<long long>* progress = nullptr;
     /// When set, a buffer the pass's photons are gathered into (its contents are dropped, its
     /// memory kept): a later progressive pass hands back the previous pass's photons, so the
     /// copy does not fault in fresh pages every pass.
     std::vector<Photon>* reuse = nullptr;
+};
+
+/// Per occupied cell of a light's projection map (in OccupiedCells' order): the photons traced,
+/// and the photons stored. A cell's stored photons follow the previous cell's in the pass's
+/// photons, and a light's follow the previous light's.
+struct EmissionCells {
+    std::vector<std::uint32_t> traced, stored;
 };
 
 /// What happened for one light.
@@ -65,6 +81,7 @@ struct LightPhotonReport {
     double occupied_fraction = 1.0;
     double map_seconds = 0.0, shoot_seconds = 0.0;
     std::string warning;          ///< e.g. no quadratic falloff
+    EmissionCells cells;          ///< with PhotonPassSettings::record_cells and a projection map
 };
 
 /// The photons of all lights, with the projection maps that were built.

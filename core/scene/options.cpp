@@ -324,6 +324,11 @@ const std::vector<OptionSpec>& option_table() {
                      "progressive: carry the specular weight at mirrors and glass and follow both the reflected and "
                      "the refracted photon, instead of Russian roulette",
                      &Options::photon_split, {{"on", true}, {"off", false}}).feeds(stage_photons),
+        choice<bool>("guided-emission", "on|off", "caustics",
+                     "progressive: after the first pass, shoot more photons through the parts of the projection map "
+                     "whose photons lit what the image shows below white, fewer through the rest (their energies "
+                     "adjusted: the same image on average)",
+                     &Options::guided_emission, {{"on", true}, {"off", false}}).feeds(stage_photons),
         real("photons-per-pixel", "caustics",
              "progressive: shoot at least enough photon directions a pass that about this many photons per image "
              "pixel are traced, shared by the lights (0: --caustic-num-photons as given)",

@@ -76,6 +76,7 @@ struct Options {
     bool photon_random_emission = false;  ///< independent random photon directions instead of low-discrepancy
     bool adaptive_radius = false;  ///< progressive: each pixel's radius balances its blur and noise
     bool photon_split = false;     ///< progressive: split photons at mirrors and glass instead of roulette
+    bool guided_emission = true;   ///< progressive: weight the projection map's cells by what their photons add to the image
     /// progressive: each pass shoots enough directions that about this many photons per image pixel
     /// are traced, shared by the lights (0: the photon count as given)
     double photons_per_pixel = 0.0;

@@ -303,7 +303,10 @@ JobBuilder closed_caustic_box(double scale) {
 // 0.3-0.5% (measured over seven seeds, and printed): 2.5% is > 4 sigma of the difference of two
 // independent means (the same seed is used, so that in practice the difference is smaller still:
 // the maps only skip directions that reach nothing specular). The thread count is the next test.
-// Under the sanitizers, scales 1 and 1000 only.
+// Under the sanitizers, scales 1 and 1000 only. Guided emission is off: it moves photons away from
+// the box's focus, which is far above white and holds most of the mean, so that the mean itself
+// gets noisier by design (0.87% against 0.5%); GuidedEmission.KeepsTheCausticEnergyOfPlainEmission
+// checks its energy.
 TEST(ProgressiveConvergence, ClosedSceneKeepsItsEnergyWithAndWithoutProjectionMapsAtAnyScale) {
     double reference = 0.0;
     const std::vector<double> scales = sanitized_build ? std::vector<double>{1.0, 1e3} : std::vector<double>{1.0, 1e-3, 1e3};
@@ -311,6 +314,7 @@ TEST(ProgressiveConvergence, ClosedSceneKeepsItsEnergyWithAndWithoutProjectionMa
         for (ProjectionMapMode mode : {ProjectionMapMode::on, ProjectionMapMode::off}) {
             JobBuilder b = closed_caustic_box(scale);
             b.job.options.projection_map = mode;
+            b.job.options.guided_emission = false;
             const MeanAndError m = accumulate_one_pass_at_a_time(b.build(), 8);
             std::printf("scale %g, projection maps %s: mean %.6f, standard error %.2f%%\n", scale,
                         mode == ProjectionMapMode::on ? "on" : "off", m.mean, 100.0 * m.sigma / m.mean);

@@ -5,6 +5,7 @@
 #include "tests/scene_test_helpers.h"
 #include "tests/test_support.h"
 
+#include "core/photons/guided_emission.h"
 #include "core/render/image_error.h"
 #include "core/util/sanitized.h"
 
@@ -461,10 +462,11 @@ namespace {
 
 /// The mean of a caustics-only progressive render (64 passes), unclamped: the caustic energy of a
 /// glass ball (ks 0.9) and a mirror ball (ks 0.8) on a floor, with or without photon splitting.
-double split_scene_caustic_mean(bool split) {
+double split_scene_caustic_mean(bool split, bool guided = false) {
     RenderJob job = caustica::testing::glass_and_mirror_balls_job(
         "--integrator progressive --draw-caustics-only --caustic-num-photons 800000 --passes 64");
     job.options.photon_split = split;
+    job.options.guided_emission = guided;
     const Image image = caustica::testing::render(job);
     double sum = 0.0;
     for (const glm::vec3& p : image.pixels) sum += (p.x + p.y + p.z) / 3.0;
@@ -483,4 +485,119 @@ TEST(PhotonSplitting, KeepsTheCausticEnergyOfRoulette) {
     ASSERT_GT(roulette, 0.0);
     EXPECT_NE(split, roulette);  // the option changed the photons
     EXPECT_NEAR(split / roulette, 1.0, 0.02);
+}
+
+// Guided emission moves photons between the projection map's cells and divides their energy by the
+// same factor: the caustic energy is that of plain emission in expectation. Same scene and bound as
+// splitting above (2%, several times the noise of the 64 passes' means).
+TEST(GuidedEmission, KeepsTheCausticEnergyOfPlainEmission) {
+    const double plain = split_scene_caustic_mean(false), guided = split_scene_caustic_mean(false, true);
+    std::printf("caustic mean: plain %.6f, guided %.6f (%+.2f%%)\n", plain, guided, 100.0 * (guided / plain - 1.0));
+    ASSERT_GT(plain, 0.0);
+    EXPECT_NE(guided, plain);  // the option changed the photons
+    EXPECT_NEAR(guided / plain, 1.0, 0.02);
+}
+
+// The weights: each cell's useful power per traced photon against the light's mean, shrunk
+// towards it by 4 photons' worth, square-rooted and kept within [1/4, 4].
+TEST(GuidedEmission, WeightsFollowTheSquareRootOfEachCellsYield) {
+    const std::vector<std::uint32_t> traced = {1000, 1000, 1000, 0, 2};
+    std::vector<double> useful = {1000.0, 250.0, 0.0, 0.0, 2.0};
+    const std::vector<float> w = emission_weights(traced, useful);
+    ASSERT_EQ(w.size(), 5u);
+    const double mean = 1252.0 / 3002.0;
+    auto expected = [&](double stored, double n) {
+        return std::clamp(std::sqrt((stored + 4.0 * mean) / (n + 4.0) / mean), 0.25, 4.0);
+    };
+    EXPECT_NEAR(w[0], expected(1000, 1000), 1e-5);
+    EXPECT_NEAR(w[0], 1.546, 1e-3);           // a cell whose every photon is useful: more photons
+    EXPECT_NEAR(w[1], 0.7762, 1e-3);          // a quarter of them: fewer
+    EXPECT_FLOAT_EQ(w[2], 0.25f);             // none: the floor, never 0 (unbiased)
+    EXPECT_FLOAT_EQ(w[3], 1.0f);              // never traced: the mean
+    EXPECT_NEAR(w[4], expected(2, 2), 1e-5);  // two photons barely move it from the mean
+    EXPECT_LT(w[4], 1.25f);
+    // The unit of the useful power does not matter, only the cells' ratios.
+    for (double& u : useful) u *= 37.0;
+    const std::vector<float> scaled = emission_weights(traced, useful);
+    for (std::size_t c = 0; c < w.size(); ++c) EXPECT_NEAR(scaled[c], w[c], 1e-5);
+    // Nothing traced, nothing useful, or mismatched sizes: no weights (plain emission).
+    EXPECT_TRUE(emission_weights({}, {}).empty());
+    EXPECT_TRUE(emission_weights(traced, std::vector<double>(5, 0.0)).empty());
+    EXPECT_TRUE(emission_weights(traced, std::vector<double>(4, 1.0)).empty());
+}
+
+// What a photon is worth: two cells trace 100 photons each and store them all with the same power,
+// one into a single spot far above white, the other spread thin. Counted by stored power they would
+// weigh the same; the spot's photons add almost nothing the camera can see, so its cell weighs less.
+TEST(GuidedEmission, PhotonsLandingInAWhiteSpotCountForLess) {
+    CausticStage first;
+    for (int i = 0; i < 100; ++i)  // cell 0: a spot; 100 x 0.01 in a disc of radius 0.1: 31.8
+        first.photons.push_back({glm::vec3(0.001f * static_cast<float>(i % 10), 0.0f, 0.001f * static_cast<float>(i / 10)),
+                                 glm::vec3(0.01f), glm::vec3(0.0f, -1.0f, 0.0f)});
+    for (int i = 0; i < 100; ++i)  // cell 1: one photon per disc (radius 0.22-0.3): 0.04-0.07
+        first.photons.push_back({glm::vec3(static_cast<float>(i % 10) + 20.0f, 0.0f, static_cast<float>(i / 10)),
+                                 glm::vec3(0.01f), glm::vec3(0.0f, -1.0f, 0.0f)});
+    first.emission_cells.push_back({{100, 100}, {100, 100}});
+    LightCausticStats light;
+    light.stored = 200;
+    first.lights.push_back(light);
+    EmissionView view;
+    view.eye = glm::vec3(0.0f, 10.0f, 0.0f);
+    view.radius_per_distance = 0.01f;  // a radius of 0.1 at the spot, 0.2-0.3 over the thin cell
+    view.max_radius = 1.0f;
+    view.grid_cell = 0.5f;
+    PhotonGrid grid;
+    const std::vector<std::vector<float>> w = learn_emission_weights(first, view, grid, nullptr);
+    ASSERT_EQ(w.size(), 1u);
+    ASSERT_EQ(w[0].size(), 2u);
+    // The useful power of each cell: the spot's 1.0 over its value 31.8, the thin cell's whole 1.0.
+    const double spot = 1.0 / (1.0 / (3.14159265 * 0.1 * 0.1)), thin = 1.0;
+    const std::vector<float> expected = emission_weights({100, 100}, {spot, thin});
+    std::printf("weights: spot %.3f, thin %.3f\n", w[0][0], w[0][1]);
+    EXPECT_NEAR(w[0][0], expected[0], 0.02);
+    EXPECT_NEAR(w[0][1], expected[1], 0.02);
+    EXPECT_LT(w[0][0], 0.5f * w[0][1]);
+    // A light without a map before it: its photons come first and are skipped, the same weights.
+    CausticStage two;
+    two.photons = first.photons;
+    two.emission_cells = first.emission_cells;
+    two.lights = first.lights;
+    two.photons.insert(two.photons.begin(), 50, Photon{glm::vec3(5.0f, 0.0f, 5.0f), glm::vec3(1.0f), glm::vec3(0.0f, -1.0f, 0.0f)});
+    two.emission_cells.insert(two.emission_cells.begin(), EmissionCells{});
+    LightCausticStats unmapped;
+    unmapped.stored = 50;
+    two.lights.insert(two.lights.begin(), unmapped);
+    const std::vector<std::vector<float>> w2 = learn_emission_weights(two, view, grid, nullptr);
+    ASSERT_EQ(w2.size(), 2u);
+    EXPECT_TRUE(w2[0].empty());
+    ASSERT_EQ(w2[1].size(), 2u);
+    EXPECT_EQ(w2[1][0], w[0][0]);
+    EXPECT_EQ(w2[1][1], w[0][1]);
+    // Records that do not account for the pass's photons teach nothing.
+    first.emission_cells[0].stored = {100, 99};
+    EXPECT_TRUE(learn_emission_weights(first, view, grid, nullptr).empty());
+    two.lights[0].stored = 49;
+    EXPECT_TRUE(learn_emission_weights(two, view, grid, nullptr).empty());
+}
+
+// The weights come from the first pass, whose photons are the same on any thread count: guided
+// passes stay the same bits on one thread or two.
+TEST(GuidedEmission, SameBitsOnAnyThreadCount) {
+    std::vector<Image> images;
+    for (int threads : {1, 2}) {
+        RenderJob job = caustica::testing::glass_and_mirror_balls_job(
+            "--integrator progressive --draw-caustics-only --caustic-num-photons 100000 --passes 4 --reproducible");
+        job.options.guided_emission = true;
+        job.options.threads = threads;
+        images.push_back(caustica::testing::render(job));
+    }
+    ASSERT_EQ(images[0].pixels.size(), images[1].pixels.size());
+    std::size_t differing = 0;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < images[0].pixels.size(); ++i) {
+        differing += images[0].pixels[i] != images[1].pixels[i] ? 1 : 0;
+        sum += images[0].pixels[i].x;
+    }
+    EXPECT_GT(sum, 0.0);
+    EXPECT_EQ(differing, 0u);
 }

@@ -79,6 +79,7 @@ const std::map<std::string, std::vector<std::string>>& other_values() {
         {"caustic-filter", {"--caustic-filter cone"}},
         {"adaptive-radius", {"--adaptive-radius on"}},
         {"photon-split", {"--photon-split on"}},
+        {"guided-emission", {"--guided-emission off"}},
         {"photons-per-pixel", {"--photons-per-pixel 2"}},
         {"photon-emission", {"--photon-emission random"}},
         {"unit-distance", {"--unit-distance 2"}},

@@ -1,0 +1,106 @@
+#include "core/photons/guided_emission.h"
+
+#include "core/util/cancel_flag.h"
+#include "core/util/parallel.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace caustica {
+namespace {
+
+double mean_of(const glm::vec3& v) { return (static_cast<double>(v.x) + v.y + v.z) / 3.0; }
+
+}  // namespace
+
+std::vector<float> emission_weights(const std::vector<std::uint32_t>& traced, const std::vector<double>& useful) {
+    std::vector<float> weights;
+    const std::size_t cells = traced.size();
+    if (cells == 0 || useful.size() != cells) return weights;
+    double traced_sum = 0.0, useful_sum = 0.0;
+    for (std::size_t c = 0; c < cells; ++c) {
+        traced_sum += traced[c];
+        useful_sum += useful[c];
+    }
+    if (!(traced_sum > 0.0) || !(useful_sum > 0.0) || !std::isfinite(useful_sum)) return weights;
+    const double mean_yield = useful_sum / traced_sum;
+    // A cell's yield counts this many photons of the light's mean yield besides its own.
+    constexpr double prior_photons = 4.0;
+    constexpr double lowest = 0.25, highest = 4.0;
+    weights.resize(cells);
+    for (std::size_t c = 0; c < cells; ++c) {
+        const double yield = (useful[c] + prior_photons * mean_yield) / (traced[c] + prior_photons);
+        weights[c] = static_cast<float>(std::clamp(std::sqrt(yield / mean_yield), lowest, highest));
+    }
+    return weights;
+}
+
+std::vector<std::vector<float>> learn_emission_weights(const CausticStage& first, const EmissionView& view,
+                                                       PhotonGrid& grid, const std::atomic<bool>* cancel) {
+    std::vector<std::vector<float>> weights;
+    // A light without a map (or whose map was not used) has no cells: its photons, as many as it
+    // stored, are skipped.
+    const std::size_t lights = first.emission_cells.size();
+    if (lights == 0 || first.lights.size() != lights) return weights;
+    std::size_t recorded = 0, in_cells = 0;
+    for (std::size_t l = 0; l < lights; ++l) {
+        const EmissionCells& cells = first.emission_cells[l];
+        if (cells.stored.size() != cells.traced.size()) return weights;
+        if (cells.stored.empty()) {
+            recorded += static_cast<std::size_t>(std::max(0LL, first.lights[l].stored));
+            continue;
+        }
+        std::size_t light_photons = 0;
+        for (std::uint32_t n : cells.stored) light_photons += n;
+        if (static_cast<long long>(light_photons) != first.lights[l].stored) return weights;
+        recorded += light_photons;
+        in_cells += light_photons;
+    }
+    // The records must account for every photon of the pass, in order (a cell's photons follow
+    // the previous cell's, a light's the previous light's): otherwise they are not this pass's,
+    // and nothing is learnt.
+    if (in_cells == 0 || recorded != first.photons.size()) return weights;
+    grid.build(first.photons, view.grid_cell);
+    constexpr float pi = 3.14159265358979f;
+    weights.resize(first.emission_cells.size());
+    std::size_t offset = 0;
+    for (std::size_t l = 0; l < lights; ++l) {
+        const EmissionCells& cells = first.emission_cells[l];
+        if (cells.stored.empty()) {
+            offset += static_cast<std::size_t>(std::max(0LL, first.lights[l].stored));
+            continue;
+        }
+        std::vector<std::size_t> begin(cells.stored.size() + 1, offset);
+        for (std::size_t c = 0; c < cells.stored.size(); ++c) begin[c + 1] = begin[c] + cells.stored[c];
+        offset = begin.back();
+        std::vector<double> useful(cells.stored.size(), 0.0);
+        // Each cell's sum in photon order, on whichever thread: the same weights on any count.
+        caustica::parallel_for(tbb::blocked_range<std::size_t>(0, cells.stored.size(), 64),
+                               [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                if (is_cancelled(cancel)) return;
+                double sum = 0.0;
+                for (std::size_t i = begin[c]; i < begin[c + 1]; ++i) {
+                    const Photon& photon = first.photons[i];
+                    const float radius = std::min(view.max_radius, view.radius_per_distance * glm::length(photon.position - view.eye));
+                    double share = 1.0;
+                    if (radius > 0.0f && std::isfinite(radius)) {
+                        const PhotonGrid::Gather g = grid.gather(photon.position, -photon.direction, radius);
+                        const double value = mean_of(g.sum) / (static_cast<double>(pi) * radius * radius);
+                        if (value > 1.0) share = 1.0 / value;
+                    }
+                    sum += share * mean_of(photon.power);
+                }
+                useful[c] = sum;
+            }
+        });
+        if (is_cancelled(cancel)) return {};
+        weights[l] = emission_weights(cells.traced, useful);
+    }
+    return weights;
+}
+
+}  // namespace caustica
