@@ -14,7 +14,9 @@ constexpr std::uint32_t photons = bit(KnobField::photons), unit = bit(KnobField:
                         fudge = bit(KnobField::fudge), map_mode = bit(KnobField::map_mode),
                         granularity = bit(KnobField::granularity), only = bit(KnobField::only),
                         dots = bit(KnobField::dots), integrator = bit(KnobField::integrator), gi = bit(KnobField::gi),
-                        gi_photons = bit(KnobField::gi_photons), gi_neighbours = bit(KnobField::gi_neighbours), layer = bit(KnobField::layer);
+                        gi_photons = bit(KnobField::gi_photons), gi_neighbours = bit(KnobField::gi_neighbours), layer = bit(KnobField::layer),
+                        first_radius = bit(KnobField::first_radius), adaptive_radius = bit(KnobField::adaptive_radius),
+                        guided_emission = bit(KnobField::guided_emission);
 
 const char* map_mode_name(ProjectionMapMode m) {
     return m == ProjectionMapMode::on ? "on" : m == ProjectionMapMode::off ? "off" : "auto";
@@ -53,6 +55,9 @@ const char* knob_label(KnobField field) {
     case KnobField::gi_photons: return "GI photons";
     case KnobField::gi_neighbours: return "GI neighbours";
     case KnobField::layer: return "show";
+    case KnobField::first_radius: return "first radius";
+    case KnobField::adaptive_radius: return "radius per pixel";
+    case KnobField::guided_emission: return "guided emission";
     }
     return "?";
 }
@@ -73,6 +78,9 @@ std::string knob_value_text(const CausticKnobs& k, KnobField field) {
     case KnobField::gi_photons: return std::to_string(k.gi_photons);
     case KnobField::gi_neighbours: return std::to_string(k.gi_neighbours);
     case KnobField::layer: return shown_layer_name(k.layer);
+    case KnobField::first_radius: return exact_number(k.first_radius);
+    case KnobField::adaptive_radius: return k.adaptive_radius ? "on" : "off";
+    case KnobField::guided_emission: return k.guided_emission ? "on" : "off";
     }
     return {};
 }
@@ -102,6 +110,9 @@ std::vector<std::string> knob_tokens(const CausticKnobs& k, const CausticKnobs& 
     case KnobField::gi_photons: return {"--gi-num-photons", std::to_string(k.gi_photons)};
     case KnobField::gi_neighbours: return {"--gi-num-neighbours", std::to_string(k.gi_neighbours)};
     case KnobField::layer: return {"--show-layer", shown_layer_name(k.layer)};
+    case KnobField::first_radius: return {"--accumulation-radius", exact_number(k.first_radius)};
+    case KnobField::adaptive_radius: return {"--adaptive-radius", k.adaptive_radius ? "on" : "off"};
+    case KnobField::guided_emission: return {"--guided-emission", k.guided_emission ? "on" : "off"};
     }
     return {};
 }
@@ -122,6 +133,9 @@ CausticKnobs CausticKnobs::from(const Options& o) {
     k.gi_photons = o.gi_num_photons;
     k.gi_neighbours = o.gi_num_neighbours;
     k.layer = o.show_layer;
+    k.first_radius = o.accumulation_radius;
+    k.adaptive_radius = o.adaptive_radius;
+    k.guided_emission = o.guided_emission;
     return k;
 }
 
@@ -140,6 +154,9 @@ void CausticKnobs::apply(Options& o) const {
     o.gi_num_photons = gi_photons;
     o.gi_num_neighbours = gi_neighbours;
     o.show_layer = layer;
+    o.accumulation_radius = first_radius;
+    o.adaptive_radius = adaptive_radius;
+    o.guided_emission = guided_emission;
 }
 
 void KnobOverrides::record(const CausticKnobs& a, const CausticKnobs& b) {
@@ -157,6 +174,9 @@ void KnobOverrides::record(const CausticKnobs& a, const CausticKnobs& b) {
     if (a.gi_photons != b.gi_photons) mask_ |= gi_photons;
     if (a.gi_neighbours != b.gi_neighbours) mask_ |= gi_neighbours;
     if (a.layer != b.layer) mask_ |= layer;
+    if (a.first_radius != b.first_radius) mask_ |= first_radius;
+    if (a.adaptive_radius != b.adaptive_radius) mask_ |= adaptive_radius;
+    if (a.guided_emission != b.guided_emission) mask_ |= guided_emission;
 }
 
 CausticKnobs KnobOverrides::merge(const CausticKnobs& script, const CausticKnobs& person) const {
@@ -175,6 +195,9 @@ CausticKnobs KnobOverrides::merge(const CausticKnobs& script, const CausticKnobs
     if (mask_ & gi_photons) k.gi_photons = person.gi_photons;
     if (mask_ & gi_neighbours) k.gi_neighbours = person.gi_neighbours;
     if (mask_ & layer) k.layer = person.layer;
+    if (mask_ & first_radius) k.first_radius = person.first_radius;
+    if (mask_ & adaptive_radius) k.adaptive_radius = person.adaptive_radius;
+    if (mask_ & guided_emission) k.guided_emission = person.guided_emission;
     return k;
 }
 

@@ -26,6 +26,9 @@ struct CausticKnobs {
     long long gi_photons = 1'000'000;  ///< gi_num_photons
     int gi_neighbours = 100;         ///< gi_num_neighbours
     ShadingLayer layer = ShadingLayer::beauty;  ///< show_layer: the layer of the light shown
+    double first_radius = 3.0;       ///< accumulation_radius (progressive, pixel footprints)
+    bool adaptive_radius = false;    ///< adaptive_radius (progressive: a radius per pixel)
+    bool guided_emission = true;     ///< guided_emission (progressive)
 
     /// The knobs as a job's options set them.
     static CausticKnobs from(const Options& options);
@@ -51,6 +54,9 @@ enum class KnobField : std::uint32_t {
     gi_photons = 1u << 11,
     gi_neighbours = 1u << 12,
     layer = 1u << 13,
+    first_radius = 1u << 14,
+    adaptive_radius = 1u << 15,
+    guided_emission = 1u << 16,
 };
 
 /// Every knob field, in the panel's order.
@@ -58,6 +64,7 @@ inline constexpr KnobField all_knob_fields[] = {
     KnobField::integrator, KnobField::photons,  KnobField::unit, KnobField::neighbours,  KnobField::max_dist,
     KnobField::fudge,      KnobField::map_mode, KnobField::granularity, KnobField::only, KnobField::dots,
     KnobField::gi,         KnobField::gi_photons, KnobField::gi_neighbours, KnobField::layer,
+    KnobField::first_radius, KnobField::adaptive_radius, KnobField::guided_emission,
 };
 
 /// The layers the "show" menu offers, in its order, and their --show-layer names ("image" for all).

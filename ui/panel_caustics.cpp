@@ -232,8 +232,24 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
          "refining pass after pass until paused or a stopping rule. Switching re-shoots photons and re-renders, "
          "keeps the BVH. Your pick is kept for this scene: it opens with it next time (a --integrator given for "
          "it on the command line wins; the reset under Differs from the scene forgets it)");
-    if (integrator_entry(k.integrator).accumulates && integrator_entry(model.knobs().integrator).accumulates)
+    if (integrator_entry(k.integrator).accumulates && integrator_entry(model.knobs().integrator).accumulates) {
         draw_refinement_controls(model, state);
+        // How the passes gather and shoot (docs/CAUSTICS.md, "Progressive photon mapping"): each
+        // starts the accumulation again.
+        knob_row(state,
+                 {"first radius", "accumulation-radius", {0.1, 100.0}, "%.3g",
+                  "the first gather radius in pixel footprints (shrinking pass by pass): smaller is sharper and "
+                  "noisier; 1.5 suits thin or sharp-edged caustics, 3 smooth ones. Starts the accumulation again"},
+                 k.first_radius, &Options::accumulation_radius);
+        ImGui::Checkbox("radius per pixel", &k.adaptive_radius);
+        hint("--adaptive-radius: each pixel's radius shrinks where its blur outweighs its noise (after 8, 32, "
+             "128, ... passes); with a first radius of 1.5, the lowest error measured on sharp caustics. Starts "
+             "the accumulation again");
+        ImGui::SameLine();
+        ImGui::Checkbox("guided emission", &k.guided_emission);
+        hint("--guided-emission: after the first pass, more photons through the parts of the projection map "
+             "whose photons lit what the image shows below white; the same image on average. Re-shoots photons");
+    }
 
     // Photons: 0 to what the photon map can hold in memory, on a logarithmic scale.
     const long long photons_limit = photon_memory_limit();

@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -182,6 +184,49 @@ TEST(Wysiwyg, CommandLineReproducesThePersonsChoicesAndEachResets) {
     model.undo();  // "reset all" is one step
     EXPECT_EQ(model.preset(), "draft");
     EXPECT_EQ(model.knobs().integrator, IntegratorKind::progressive);
+}
+
+// The progressive passes' own knobs (first radius, radius per pixel, guided emission) reach the
+// job, the copied command line and the differences, and reset like the others.
+TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
+    TempFolder folder;
+    const std::string scene = folder.write("box.lua", tiny_box(20000, "gr.option('--integrator progressive')\n"));
+    ViewModel model(config_with({}));
+    model.open(scene);
+    ASSERT_TRUE(loaded(model, scene)) << model.error();
+    CausticKnobs k = model.knobs();
+    EXPECT_EQ(k.first_radius, 3.0);
+    EXPECT_FALSE(k.adaptive_radius);
+    EXPECT_TRUE(k.guided_emission);
+    k.first_radius = 1.5;
+    k.adaptive_radius = true;
+    k.guided_emission = false;
+    model.set_knobs(k);
+    const Options shown = model.current_job().options;
+    EXPECT_EQ(shown.accumulation_radius, 1.5);
+    EXPECT_TRUE(shown.adaptive_radius);
+    EXPECT_FALSE(shown.guided_emission);
+    const std::vector<std::string> added = model.person_tokens();
+    const std::vector<std::string> expected = {"--accumulation-radius", "1.5", "--adaptive-radius", "on",
+                                               "--guided-emission", "off"};
+    ASSERT_GE(added.size(), expected.size());
+    EXPECT_EQ(std::vector<std::string>(added.begin(), added.begin() + 6), expected);
+    std::vector<std::string> all = model.scene_tokens();
+    all.insert(all.end(), added.begin(), added.end());
+    const Options render = render_options(scene, all);
+    EXPECT_EQ(render.accumulation_radius, 1.5);
+    EXPECT_TRUE(render.adaptive_radius);
+    EXPECT_FALSE(render.guided_emission);
+    std::vector<std::string> labels;
+    for (const Difference& d : model.differences()) labels.push_back(d.label);
+    for (const char* label : {"first radius", "radius per pixel", "guided emission"})
+        EXPECT_NE(std::find(labels.begin(), labels.end(), label), labels.end()) << label;
+    model.reset_difference("knob:" + std::to_string(static_cast<std::uint32_t>(KnobField::guided_emission)));
+    EXPECT_TRUE(model.knobs().guided_emission);
+    EXPECT_EQ(model.knobs().first_radius, 1.5);
+    model.reset_difference("all");
+    EXPECT_EQ(model.current_job().options.accumulation_radius, 3.0);
+    EXPECT_FALSE(model.current_job().options.adaptive_radius);
 }
 
 TEST(Wysiwyg, EndlessRefinementIsListedAndTheCommandRendersThePassesShown) {
