@@ -86,7 +86,11 @@ Settings parse_arguments(int argc, char** argv) {
         else if (a == "--max-dist") s.run.max_dist = std::stod(value());
         else if (a == "--photon-split") s.run.split = true;
         else if (a == "--adaptive-radius") s.run.adaptive_radius = true;
-        else if (a == "--guided-emission") s.run.guided_emission = value() == "on" ? 1 : 0;
+        else if (a == "--guided-emission") {
+            const std::string v = value();
+            if (v != "on" && v != "off") throw std::runtime_error("--guided-emission expects on or off, not '" + v + "'");
+            s.run.guided_emission = v == "on" ? 1 : 0;
+        }
         else if (a == "--photons-per-pixel") s.run.photons_per_pixel = std::stod(value());
         else if (a == "--out") s.out_dir = value();
         else if (a == "--repeat") s.repeat = std::stoi(value());

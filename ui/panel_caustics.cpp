@@ -248,7 +248,8 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
         ImGui::SameLine();
         ImGui::Checkbox("guided emission", &k.guided_emission);
         hint("--guided-emission: after the first pass, more photons through the parts of the projection map "
-             "whose photons lit what the image shows below white; the same image on average. Re-shoots photons");
+             "whose photons lit what the image shows below white; the same image on average. Starts the "
+             "accumulation again");
     }
 
     // Photons: 0 to what the photon map can hold in memory, on a logarithmic scale.

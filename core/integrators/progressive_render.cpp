@@ -405,9 +405,11 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         const double radius = typical_first_radius(host.scene(), *context.camera, job, setup);
         if (shared || !cancel) acc.typical_radius = radius;
     }
-    // --guided-emission: the cells' weights from the first pass's photons, once per accumulation
-    // (again after a resume: they are a function of the first pass and the camera, the same bits).
-    if (options.guided_emission && has_photons && emission_weights_.empty() && acc.typical_radius > 0.0) {
+    // --guided-emission: the cells' weights from the first pass's photons, learnt before the first
+    // pass that shoots with them, once per accumulation (again after a resume: they are a function
+    // of the first pass, the camera and the options, so every rank learns the same bits).
+    auto learn_weights = [&] {
+        if (!options.guided_emission || !emission_weights_.empty() || !(acc.typical_radius > 0.0)) return;
         const auto t_learn = std::chrono::steady_clock::now();
         EmissionView view;
         view.eye = glm::vec3(job.camera.eye);
@@ -416,7 +418,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         view.grid_cell = static_cast<float>(grid_cell_factor * acc.typical_radius);
         emission_weights_ = learn_emission_weights(*first_stage, view, grid_, &cancel);
         host.add_stage_time("photon passes", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_learn).count());
-    }
+    };
     double last_round_seconds = 0.0, radius_log_before = 0.0, grid_seconds = 0.0;
     std::uint64_t radius_samples_before = 0;
     int next_error_check = 0;  // shared: the round whose end estimates the error (with --target-error)
@@ -460,6 +462,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         if (mine) {
             const std::vector<Photon>* photons = has_photons ? &first_stage->photons : nullptr;
             if (p > 0 && has_photons) {
+                learn_weights();
                 PhotonPassExtras extras;
                 extras.seed = hash_combine(acc.seed ^ 0x7061737365730000ULL, static_cast<std::uint64_t>(p));
                 extras.first = first_stage;
@@ -468,7 +471,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
                 extras.pass = p / replicate_groups;
                 extras.group = p % replicate_groups;
                 extras.reuse = &spare_photons_;
-                extras.emission_weights = emission_weights_.empty() ? nullptr : &emission_weights_;
+                extras.emission_weights = options.guided_emission && !emission_weights_.empty() ? &emission_weights_ : nullptr;
                 host.photon_progress() = 0;
                 host.report([&](SessionProgress& progress, RenderStats&) {
                     progress.photons_done = 0;

@@ -175,10 +175,10 @@ void build_progressive_stage(CausticStage& stage, const RenderScene& scene, cons
                 settings.emission_weights[l] = &(*extras.emission_weights)[l];
         }
     }
-    // Guided emission learns from the first pass, which shoots as without it: a function of the
-    // scene, the camera and the options alone, so every rank, and a resumed render, learns the
-    // same weights.
-    settings.record_cells = o.guided_emission && !extras.first;
+    // Guided emission learns from the first pass, which shoots as without it: its cells are
+    // recorded whether or not the option is on (a few bytes a cell), so that the option changes
+    // the passes that follow and not this one.
+    settings.record_cells = !extras.first;
     PhotonPassResult pass = shoot_caustic_photons(scene, lights, settings, cancel);
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const LightPhotonReport& r = pass.lights[l];

@@ -51,8 +51,8 @@ struct CausticStage {
     /// Whether the progressive pass shot photons (`photons` may still be empty).
     bool photon_pass = false;
     std::vector<ProjectionMap> projection_maps;
-    /// Progressive, --guided-emission on, the first pass: per light what its occupied cells traced
-    /// and stored (empty without a map), which guided emission learns from (guided_emission.h).
+    /// Progressive, the first pass: per light what its occupied cells traced and stored (empty
+    /// without a map), which guided emission learns from (guided_emission.h).
     std::vector<EmissionCells> emission_cells;
     std::vector<glm::vec3> light_positions;
     std::vector<LightCausticStats> lights;     ///< the caustic pass of each light

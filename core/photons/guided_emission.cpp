@@ -14,6 +14,9 @@ namespace {
 
 double mean_of(const glm::vec3& v) { return (static_cast<double>(v.x) + v.y + v.z) / 3.0; }
 
+/// The photons of a cell whose worth is measured (docs/CAUSTICS.md, "Guided emission").
+constexpr std::size_t judged_per_cell = 16;
+
 }  // namespace
 
 std::vector<float> emission_weights(const std::vector<std::uint32_t>& traced, const std::vector<double>& useful) {
@@ -53,9 +56,12 @@ std::vector<std::vector<float>> learn_emission_weights(const CausticStage& first
             recorded += static_cast<std::size_t>(std::max(0LL, first.lights[l].stored));
             continue;
         }
-        std::size_t light_photons = 0;
+        std::size_t light_photons = 0, light_traced = 0;
         for (std::uint32_t n : cells.stored) light_photons += n;
-        if (static_cast<long long>(light_photons) != first.lights[l].stored) return weights;
+        for (std::uint32_t n : cells.traced) light_traced += n;
+        if (static_cast<long long>(light_photons) != first.lights[l].stored ||
+            static_cast<long long>(light_traced) != first.lights[l].traced)
+            return weights;
         recorded += light_photons;
         in_cells += light_photons;
     }
@@ -82,9 +88,14 @@ std::vector<std::vector<float>> learn_emission_weights(const CausticStage& first
                                [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t c = r.begin(); c != r.end(); ++c) {
                 if (is_cancelled(cancel)) return;
+                // At most judged_per_cell photons of the cell, evenly spaced in its range, stand for
+                // all of them: a gather where photons crowd (a focus) finds thousands, and judging
+                // every photon there would cost more than a pass.
+                const std::size_t stored = begin[c + 1] - begin[c];
+                const std::size_t judged = std::min(stored, judged_per_cell);
                 double sum = 0.0;
-                for (std::size_t i = begin[c]; i < begin[c + 1]; ++i) {
-                    const Photon& photon = first.photons[i];
+                for (std::size_t j = 0; j < judged; ++j) {
+                    const Photon& photon = first.photons[begin[c] + j * stored / judged];
                     const float radius = std::min(view.max_radius, view.radius_per_distance * glm::length(photon.position - view.eye));
                     double share = 1.0;
                     if (radius > 0.0f && std::isfinite(radius)) {
@@ -94,7 +105,7 @@ std::vector<std::vector<float>> learn_emission_weights(const CausticStage& first
                     }
                     sum += share * mean_of(photon.power);
                 }
-                useful[c] = sum;
+                useful[c] = judged > 0 ? sum * static_cast<double>(stored) / static_cast<double>(judged) : 0.0;
             }
         });
         if (is_cancelled(cancel)) return {};

@@ -328,7 +328,7 @@ const std::vector<OptionSpec>& option_table() {
                      "progressive: after the first pass, shoot more photons through the parts of the projection map "
                      "whose photons lit what the image shows below white, fewer through the rest (their energies "
                      "adjusted: the same image on average)",
-                     &Options::guided_emission, {{"on", true}, {"off", false}}).feeds(stage_photons),
+                     &Options::guided_emission, {{"on", true}, {"off", false}}).feeds(stage_image),
         real("photons-per-pixel", "caustics",
              "progressive: shoot at least enough photon directions a pass that about this many photons per image "
              "pixel are traced, shared by the lights (0: --caustic-num-photons as given)",

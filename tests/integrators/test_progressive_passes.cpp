@@ -526,20 +526,22 @@ TEST(GuidedEmission, WeightsFollowTheSquareRootOfEachCellsYield) {
     EXPECT_TRUE(emission_weights(traced, std::vector<double>(4, 1.0)).empty());
 }
 
-// What a photon is worth: two cells trace 100 photons each and store them all with the same power,
-// one into a single spot far above white, the other spread thin. Counted by stored power they would
-// weigh the same; the spot's photons add almost nothing the camera can see, so its cell weighs less.
+// What a photon is worth: two cells trace 100 photons each; one stores all of them in a single spot
+// far above white, the other half of them, spread thin. Counted by stored power the spot's cell
+// would weigh more; its photons add almost nothing the camera can see, so it weighs less. Each
+// cell's 16 judged photons stand for all its photons (100 and 50).
 TEST(GuidedEmission, PhotonsLandingInAWhiteSpotCountForLess) {
     CausticStage first;
     for (int i = 0; i < 100; ++i)  // cell 0: a spot; 100 x 0.01 in a disc of radius 0.1: 31.8
         first.photons.push_back({glm::vec3(0.001f * static_cast<float>(i % 10), 0.0f, 0.001f * static_cast<float>(i / 10)),
                                  glm::vec3(0.01f), glm::vec3(0.0f, -1.0f, 0.0f)});
-    for (int i = 0; i < 100; ++i)  // cell 1: one photon per disc (radius 0.22-0.3): 0.04-0.07
+    for (int i = 0; i < 50; ++i)  // cell 1: half its 100 photons stored, one per disc (radius 0.22-0.3)
         first.photons.push_back({glm::vec3(static_cast<float>(i % 10) + 20.0f, 0.0f, static_cast<float>(i / 10)),
                                  glm::vec3(0.01f), glm::vec3(0.0f, -1.0f, 0.0f)});
-    first.emission_cells.push_back({{100, 100}, {100, 100}});
+    first.emission_cells.push_back({{100, 100}, {100, 50}});
     LightCausticStats light;
-    light.stored = 200;
+    light.traced = 200;
+    light.stored = 150;
     first.lights.push_back(light);
     EmissionView view;
     view.eye = glm::vec3(0.0f, 10.0f, 0.0f);
@@ -550,8 +552,9 @@ TEST(GuidedEmission, PhotonsLandingInAWhiteSpotCountForLess) {
     const std::vector<std::vector<float>> w = learn_emission_weights(first, view, grid, nullptr);
     ASSERT_EQ(w.size(), 1u);
     ASSERT_EQ(w[0].size(), 2u);
-    // The useful power of each cell: the spot's 1.0 over its value 31.8, the thin cell's whole 1.0.
-    const double spot = 1.0 / (1.0 / (3.14159265 * 0.1 * 0.1)), thin = 1.0;
+    // The useful power of each cell: the spot's 1.0 over its value 31.8, the thin cell's whole 0.5
+    // (16 photons of each judged, standing for all: 100 and 50).
+    const double spot = 1.0 / (1.0 / (3.14159265 * 0.1 * 0.1)), thin = 0.5;
     const std::vector<float> expected = emission_weights({100, 100}, {spot, thin});
     std::printf("weights: spot %.3f, thin %.3f\n", w[0][0], w[0][1]);
     EXPECT_NEAR(w[0][0], expected[0], 0.02);
@@ -574,7 +577,10 @@ TEST(GuidedEmission, PhotonsLandingInAWhiteSpotCountForLess) {
     EXPECT_EQ(w2[1][0], w[0][0]);
     EXPECT_EQ(w2[1][1], w[0][1]);
     // Records that do not account for the pass's photons teach nothing.
-    first.emission_cells[0].stored = {100, 99};
+    first.emission_cells[0].stored = {100, 49};
+    EXPECT_TRUE(learn_emission_weights(first, view, grid, nullptr).empty());
+    first.emission_cells[0].stored = {100, 50};
+    first.emission_cells[0].traced = {100, 99};
     EXPECT_TRUE(learn_emission_weights(first, view, grid, nullptr).empty());
     two.lights[0].stored = 49;
     EXPECT_TRUE(learn_emission_weights(two, view, grid, nullptr).empty());
