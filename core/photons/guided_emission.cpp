@@ -14,8 +14,9 @@ namespace {
 
 double mean_of(const glm::vec3& v) { return (static_cast<double>(v.x) + v.y + v.z) / 3.0; }
 
-/// The photons of a cell whose worth is measured (docs/CAUSTICS.md, "Guided emission").
-constexpr std::size_t judged_per_cell = 16;
+/// The photons of a cell whose worth is measured (docs/CAUSTICS.md, "Guided emission"), and the
+/// photons their gathers may scan before the cell stops judging more.
+constexpr std::size_t judged_per_cell = 16, scan_budget = 4096;
 
 }  // namespace
 
@@ -91,21 +92,25 @@ std::vector<std::vector<float>> learn_emission_weights(const CausticStage& first
                 // At most judged_per_cell photons of the cell, evenly spaced in its range, stand for
                 // all of them: a gather where photons crowd (a focus) finds thousands, and judging
                 // every photon there would cost more than a pass.
+                // Fewer where the gathers scan many photons (wide footprints at low resolutions,
+                // a focus): a cell stops judging once its gathers have scanned scan_budget photons.
                 const std::size_t stored = begin[c + 1] - begin[c];
                 const std::size_t judged = std::min(stored, judged_per_cell);
                 double sum = 0.0;
-                for (std::size_t j = 0; j < judged; ++j) {
-                    const Photon& photon = first.photons[begin[c] + j * stored / judged];
+                std::size_t done = 0, scanned = 0;
+                for (; done < judged && scanned < scan_budget; ++done) {
+                    const Photon& photon = first.photons[begin[c] + done * stored / judged];
                     const float radius = std::min(view.max_radius, view.radius_per_distance * glm::length(photon.position - view.eye));
                     double share = 1.0;
                     if (radius > 0.0f && std::isfinite(radius)) {
                         const PhotonGrid::Gather g = grid.gather(photon.position, -photon.direction, radius);
+                        scanned += g.count;
                         const double value = mean_of(g.sum) / (static_cast<double>(pi) * radius * radius);
                         if (value > 1.0) share = 1.0 / value;
                     }
                     sum += share * mean_of(photon.power);
                 }
-                useful[c] = judged > 0 ? sum * static_cast<double>(stored) / static_cast<double>(judged) : 0.0;
+                useful[c] = done > 0 ? sum * static_cast<double>(stored) / static_cast<double>(done) : 0.0;
             }
         });
         if (is_cancelled(cancel)) return {};

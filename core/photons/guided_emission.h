@@ -35,7 +35,8 @@ std::vector<float> emission_weights(const std::vector<std::uint32_t>& traced, co
 /// below white the caustic it lands in shows: wholly up to white, 1 / value above it (a pixel
 /// already white gains little from more photons). The value is the pass's own estimate there,
 /// its photons within the radius the camera gathers with at that distance; at most 16 photons of
-/// a cell, evenly spaced among its photons, are judged and stand for the rest. Empty (plain
+/// a cell, evenly spaced among its photons, are judged and stand for the rest (fewer once their
+/// gathers have scanned 4096 photons). Empty (plain
 /// emission) when the first pass recorded nothing, or once `cancel` is set; a light without a
 /// map gets no weights.
 std::vector<std::vector<float>> learn_emission_weights(const CausticStage& first, const EmissionView& view,
