@@ -45,44 +45,39 @@ std::vector<float> emission_weights(const std::vector<std::uint32_t>& traced, co
 std::vector<std::vector<float>> learn_emission_weights(const CausticStage& first, const EmissionView& view,
                                                        PhotonGrid& grid, const std::atomic<bool>* cancel) {
     std::vector<std::vector<float>> weights;
-    // A light without a map (or whose map was not used) has no cells: its photons, as many as it
-    // stored, are skipped.
+    // Each light's photons follow the previous light's; a light without a map (or whose map was
+    // not used) has no cells, and its photons, as many as it stored, are skipped.
     const std::size_t lights = first.emission_cells.size();
     if (lights == 0 || first.lights.size() != lights) return weights;
-    std::size_t recorded = 0, in_cells = 0;
+    std::vector<std::size_t> light_start(lights + 1, 0);
+    std::size_t in_cells = 0;
     for (std::size_t l = 0; l < lights; ++l) {
         const EmissionCells& cells = first.emission_cells[l];
         if (cells.stored.size() != cells.traced.size()) return weights;
-        if (cells.stored.empty()) {
-            recorded += static_cast<std::size_t>(std::max(0LL, first.lights[l].stored));
-            continue;
-        }
         std::size_t light_photons = 0, light_traced = 0;
         for (std::uint32_t n : cells.stored) light_photons += n;
         for (std::uint32_t n : cells.traced) light_traced += n;
-        if (static_cast<long long>(light_photons) != first.lights[l].stored ||
-            static_cast<long long>(light_traced) != first.lights[l].traced)
+        if (cells.stored.empty()) {
+            light_photons = static_cast<std::size_t>(std::max(0LL, first.lights[l].stored));
+        } else if (static_cast<long long>(light_photons) != first.lights[l].stored ||
+                   static_cast<long long>(light_traced) != first.lights[l].traced) {
             return weights;
-        recorded += light_photons;
-        in_cells += light_photons;
+        } else {
+            in_cells += light_photons;
+        }
+        light_start[l + 1] = light_start[l] + light_photons;
     }
     // The records must account for every photon of the pass, in order (a cell's photons follow
-    // the previous cell's, a light's the previous light's): otherwise they are not this pass's,
-    // and nothing is learnt.
-    if (in_cells == 0 || recorded != first.photons.size()) return weights;
+    // the previous cell's): otherwise they are not this pass's, and nothing is learnt.
+    if (in_cells == 0 || light_start[lights] != first.photons.size()) return weights;
     grid.build(first.photons, view.grid_cell);
     constexpr float pi = 3.14159265358979f;
-    weights.resize(first.emission_cells.size());
-    std::size_t offset = 0;
+    weights.resize(lights);
     for (std::size_t l = 0; l < lights; ++l) {
         const EmissionCells& cells = first.emission_cells[l];
-        if (cells.stored.empty()) {
-            offset += static_cast<std::size_t>(std::max(0LL, first.lights[l].stored));
-            continue;
-        }
-        std::vector<std::size_t> begin(cells.stored.size() + 1, offset);
+        if (cells.stored.empty()) continue;
+        std::vector<std::size_t> begin(cells.stored.size() + 1, light_start[l]);
         for (std::size_t c = 0; c < cells.stored.size(); ++c) begin[c + 1] = begin[c] + cells.stored[c];
-        offset = begin.back();
         std::vector<double> useful(cells.stored.size(), 0.0);
         // Each cell's sum in photon order, on whichever thread: the same weights on any count.
         caustica::parallel_for(tbb::blocked_range<std::size_t>(0, cells.stored.size(), 64),
@@ -90,10 +85,9 @@ std::vector<std::vector<float>> learn_emission_weights(const CausticStage& first
             for (std::size_t c = r.begin(); c != r.end(); ++c) {
                 if (is_cancelled(cancel)) return;
                 // At most judged_per_cell photons of the cell, evenly spaced in its range, stand for
-                // all of them: a gather where photons crowd (a focus) finds thousands, and judging
-                // every photon there would cost more than a pass.
-                // Fewer where the gathers scan many photons (wide footprints at low resolutions,
-                // a focus): a cell stops judging once its gathers have scanned scan_budget photons.
+                // all of them, fewer once their gathers have scanned scan_budget photons: a gather
+                // where photons crowd (a focus, or wide footprints at low resolutions) finds
+                // thousands, and judging every photon there would cost more than a pass.
                 const std::size_t stored = begin[c + 1] - begin[c];
                 const std::size_t judged = std::min(stored, judged_per_cell);
                 double sum = 0.0;

@@ -401,7 +401,7 @@ PhotonPassResult shoot_caustic_photons(const RenderScene& scene, const std::vect
                         shift_t -= std::floor(shift_t);
                         if (settings.progress)
                             settings.progress->fetch_add(progress_at[c + 1] - progress_at[c], std::memory_order_relaxed);
-                        const glm::vec3 power = multiplier.empty() ? energy : saturate(energy / static_cast<float>(multiplier[c]));
+                        const glm::vec3 power = saturate(energy / static_cast<float>(multiplier_of(c)));
                         const std::size_t stored_before = stored[b].size();
                         for (long long j = 0; j < n; ++j) {
                             // A cell may hold any share of the count: the flag is read within it.
