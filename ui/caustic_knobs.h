@@ -29,6 +29,9 @@ struct CausticKnobs {
     double first_radius = 3.0;       ///< accumulation_radius (progressive, pixel footprints)
     bool adaptive_radius = false;    ///< adaptive_radius (progressive: a radius per pixel)
     bool guided_emission = true;     ///< guided_emission (progressive)
+    double photons_per_pixel = 0.0;  ///< photons_per_pixel (progressive; 0 = the photon count as given)
+    bool photon_split = false;       ///< photon_split (progressive)
+    double radius_alpha = 2.0 / 3.0; ///< radius_alpha (progressive: how slowly the radius shrinks)
 
     /// The knobs as a job's options set them.
     static CausticKnobs from(const Options& options);
@@ -57,6 +60,9 @@ enum class KnobField : std::uint32_t {
     first_radius = 1u << 14,
     adaptive_radius = 1u << 15,
     guided_emission = 1u << 16,
+    photons_per_pixel = 1u << 17,
+    photon_split = 1u << 18,
+    radius_alpha = 1u << 19,
 };
 
 /// Every knob field, in the panel's order.
@@ -64,7 +70,8 @@ inline constexpr KnobField all_knob_fields[] = {
     KnobField::integrator, KnobField::photons,  KnobField::unit, KnobField::neighbours,  KnobField::max_dist,
     KnobField::fudge,      KnobField::map_mode, KnobField::granularity, KnobField::only, KnobField::dots,
     KnobField::gi,         KnobField::gi_photons, KnobField::gi_neighbours, KnobField::layer,
-    KnobField::first_radius, KnobField::adaptive_radius, KnobField::guided_emission,
+    KnobField::first_radius, KnobField::radius_alpha, KnobField::adaptive_radius, KnobField::guided_emission,
+    KnobField::photon_split, KnobField::photons_per_pixel,
 };
 
 /// The layers the "show" menu offers, in its order, and their --show-layer names ("image" for all).

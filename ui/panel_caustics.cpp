@@ -178,7 +178,7 @@ void knob_row(PanelState& state, const KnobRow& row, T& value, T Options::*field
         shown = value == 0 && row.scale.zero ? "0 (off)" : current;
     } else {
         current = exact_number(value);
-        shown = formatted(row.format, value);
+        shown = value == 0.0 && row.scale.zero ? "0 (off)" : formatted(row.format, value);
     }
     double dragged = static_cast<double>(value);
     if (log_drag(state, row.label, dragged, row.scale, shown)) {
@@ -250,6 +250,20 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
         hint("--guided-emission: after the first pass, more photons through the parts of the projection map "
              "whose photons lit what the image shows below white; the same image on average. Starts the "
              "accumulation again");
+        knob_row(state,
+                 {"radius alpha", "radius-alpha", {0.05, 1.0}, "%.3g",
+                  "how slowly the gather radius shrinks pass by pass, r^2 <- r^2 (i + alpha) / (i + 1): smaller "
+                  "shrinks faster (less blur, more noise late on); 1 keeps the first radius, converging to its "
+                  "blur. Starts the accumulation again"},
+                 k.radius_alpha, &Options::radius_alpha);
+        knob_row(state,
+                 {"photons per pixel", "photons-per-pixel", {0.01, 1000.0, true}, "%.3g",
+                  "at least this many photons traced a pass per image pixel, shared by the lights (0: the photon "
+                  "count below as given): ties the pass's photons to the image size. Re-shoots photons"},
+                 k.photons_per_pixel, &Options::photons_per_pixel);
+        ImGui::Checkbox("photon splitting", &k.photon_split);
+        hint("--photon-split: at mirrors and glass, follow both the reflected and the refracted photon, each "
+             "carrying its share, instead of choosing one by Russian roulette. Re-shoots photons");
     }
 
     // Photons: 0 to what the photon map can hold in memory, on a logarithmic scale.
@@ -265,10 +279,19 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
              {"unit distance", "unit-distance", {1e-3, 1e4}, "%.4g",
               "the scene's unit of distance for photon energy; re-shoots photons"},
              k.unit_distance, &Options::unit_distance);
+    // Accumulating passes gather within a radius, not N photons: N then serves a single pass only.
+    const bool gathers_by_radius =
+        integrator_entry(k.integrator).accumulates && model.stop_rules().passes != 1;
+    ImGui::BeginDisabled(gathers_by_radius);
     knob_row(state,
              {"neighbours N", "caustic-num-neighbours", {1.0, 1e6, false, true}, nullptr,
               "photons in each radiance estimate (1 to a million); gathers again, no new photons"},
              k.num_neighbours, &Options::caustic_num_neighbours);
+    ImGui::EndDisabled();
+    if (gathers_by_radius)
+        hint("the progressive passes gather within the first radius above, shrinking, not N photons: N is "
+             "used only when the stopping rules render a single pass",
+             true);
 
     bool automatic = k.max_dist < 0.0;
     if (ImGui::Checkbox("auto max distance", &automatic)) k.max_dist = automatic ? -1.0 : 0.15 * k.unit_distance;

@@ -186,8 +186,9 @@ TEST(Wysiwyg, CommandLineReproducesThePersonsChoicesAndEachResets) {
     EXPECT_EQ(model.knobs().integrator, IntegratorKind::progressive);
 }
 
-// The progressive passes' own knobs (first radius, radius per pixel, guided emission) reach the
-// job, the copied command line and the differences, and reset like the others.
+// The progressive passes' own knobs (first radius, its shrink, radius per pixel, guided emission,
+// photon splitting, photons per pixel) reach the job, the copied command line and the differences,
+// and reset like the others.
 TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
     TempFolder folder;
     const std::string scene = folder.write("box.lua", tiny_box(20000, "gr.option('--integrator progressive')\n"));
@@ -198,35 +199,56 @@ TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
     EXPECT_EQ(k.first_radius, 3.0);
     EXPECT_FALSE(k.adaptive_radius);
     EXPECT_TRUE(k.guided_emission);
+    EXPECT_EQ(k.radius_alpha, 2.0 / 3.0);
+    EXPECT_EQ(k.photons_per_pixel, 0.0);
+    EXPECT_FALSE(k.photon_split);
     k.first_radius = 1.5;
     k.adaptive_radius = true;
     k.guided_emission = false;
+    k.radius_alpha = 0.9;
+    k.photons_per_pixel = 0.25;
+    k.photon_split = true;
     model.set_knobs(k);
     const Options shown = model.current_job().options;
     EXPECT_EQ(shown.accumulation_radius, 1.5);
     EXPECT_TRUE(shown.adaptive_radius);
     EXPECT_FALSE(shown.guided_emission);
+    EXPECT_EQ(shown.radius_alpha, 0.9);
+    EXPECT_EQ(shown.photons_per_pixel, 0.25);
+    EXPECT_TRUE(shown.photon_split);
     const std::vector<std::string> added = model.person_tokens();
-    const std::vector<std::string> expected = {"--accumulation-radius", "1.5", "--adaptive-radius", "on",
-                                               "--guided-emission", "off"};
+    // In the panel's order.
+    const std::vector<std::string> expected = {"--accumulation-radius", "1.5", "--radius-alpha", "0.9",
+                                               "--adaptive-radius", "on", "--guided-emission", "off",
+                                               "--photon-split", "on", "--photons-per-pixel", "0.25"};
     ASSERT_GE(added.size(), expected.size());
-    EXPECT_EQ(std::vector<std::string>(added.begin(), added.begin() + 6), expected);
+    EXPECT_EQ(std::vector<std::string>(added.begin(), added.begin() + static_cast<std::ptrdiff_t>(expected.size())),
+              expected);
     std::vector<std::string> all = model.scene_tokens();
     all.insert(all.end(), added.begin(), added.end());
     const Options render = render_options(scene, all);
     EXPECT_EQ(render.accumulation_radius, 1.5);
     EXPECT_TRUE(render.adaptive_radius);
     EXPECT_FALSE(render.guided_emission);
+    EXPECT_EQ(render.radius_alpha, 0.9);
+    EXPECT_EQ(render.photons_per_pixel, 0.25);
+    EXPECT_TRUE(render.photon_split);
     std::vector<std::string> labels;
     for (const Difference& d : model.differences()) labels.push_back(d.label);
-    for (const char* label : {"first radius", "radius per pixel", "guided emission"})
+    for (const char* label : {"first radius", "radius per pixel", "guided emission", "radius alpha",
+                              "photons per pixel", "photon splitting"})
         EXPECT_NE(std::find(labels.begin(), labels.end(), label), labels.end()) << label;
     model.reset_difference("knob:" + std::to_string(static_cast<std::uint32_t>(KnobField::guided_emission)));
     EXPECT_TRUE(model.knobs().guided_emission);
     EXPECT_EQ(model.knobs().first_radius, 1.5);
+    model.reset_difference("knob:" + std::to_string(static_cast<std::uint32_t>(KnobField::photons_per_pixel)));
+    EXPECT_EQ(model.knobs().photons_per_pixel, 0.0);
+    EXPECT_TRUE(model.knobs().photon_split);
     model.reset_difference("all");
     EXPECT_EQ(model.current_job().options.accumulation_radius, 3.0);
     EXPECT_FALSE(model.current_job().options.adaptive_radius);
+    EXPECT_EQ(model.current_job().options.radius_alpha, 2.0 / 3.0);
+    EXPECT_FALSE(model.current_job().options.photon_split);
 }
 
 TEST(Wysiwyg, EndlessRefinementIsListedAndTheCommandRendersThePassesShown) {
