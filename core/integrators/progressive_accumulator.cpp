@@ -77,17 +77,37 @@ double shown_blur2(double m, double b, double v) {
     return shown * shown - slope * slope * v;
 }
 
-/// Along `lines` lines of `count` values (value i of line k at k line_stride + i stride), the sum
-/// of each value's neighbours within `half` either side, into `out`, in a fixed order.
-void window_sums(const std::vector<double>& in, std::vector<double>& out, int count, std::size_t stride, int lines,
-                 std::size_t line_stride, int half) {
-    for (int k = 0; k < lines; ++k)
-        for (int i = 0; i < count; ++i) {
-            double sum = 0.0;
-            for (int d = std::max(0, i - half); d <= std::min(count - 1, i + half); ++d)
-                sum += in[static_cast<std::size_t>(k) * line_stride + static_cast<std::size_t>(d) * stride];
-            out[static_cast<std::size_t>(k) * line_stride + static_cast<std::size_t>(i) * stride] = sum;
+/// Half the side of the window the caustic region is chosen on (estimate_error).
+constexpr int region_window = 3;
+
+/// Replaces each value of a width x height image by the sum over the (2 half + 1)^2 window around
+/// it (clipped at the borders): along the rows, then the columns, each sum in a fixed order (the
+/// same bits for any thread count; exact where the window holds only zeros).
+template <typename T>
+void box_sums(std::vector<T>& v, int width, int height, int half) {
+    const std::size_t w = static_cast<std::size_t>(width);
+    std::vector<T> rows(v.size());
+    caustica::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y != r.end(); ++y) {
+            const T* in = &v[static_cast<std::size_t>(y) * w];
+            T* out = &rows[static_cast<std::size_t>(y) * w];
+            for (int x = 0; x < width; ++x) {
+                T sum = 0;
+                for (int d = std::max(0, x - half); d <= std::min(width - 1, x + half); ++d) sum += in[d];
+                out[x] = sum;
+            }
         }
+    });
+    caustica::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y != r.end(); ++y) {
+            T* out = &v[static_cast<std::size_t>(y) * w];
+            std::fill(out, out + w, T(0));
+            for (int d = std::max(0, y - half); d <= std::min(height - 1, y + half); ++d) {
+                const T* in = &rows[static_cast<std::size_t>(d) * w];
+                for (std::size_t x = 0; x < w; ++x) out[x] += in[x];
+            }
+        }
+    });
 }
 
 }  // namespace
@@ -170,10 +190,83 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
             for (std::size_t c = r.begin(); c != r.end(); ++c) body(c, c * chunk, std::min(pixels, (c + 1) * chunk));
         });
     };
+    // A pixel's passes per replicate group; whether every group has some.
+    auto group_counts = [&](std::size_t i, double* counts) {
+        double last_count = at(i, count_slot);
+        bool grouped = true;
+        for (int g = 0; g < replicate_groups; ++g) {
+            counts[g] = g < replicate_groups - 1 ? at(i, group_count + static_cast<std::size_t>(g)) : last_count;
+            if (g < replicate_groups - 1) last_count -= counts[g];
+            if (counts[g] < 1.0) grouped = false;
+        }
+        return grouped;
+    };
+    // The variance of a pixel's mean value: from its groups' spread when every group has passes
+    // (as below), else from all its passes as if independent (none with fewer than 2).
+    auto variance_of_pixel_mean = [&](std::size_t i) {
+        const double n = at(i, count_slot);
+        double counts[replicate_groups];
+        if (group_counts(i, counts)) {
+            double m[replicate_groups], mm = 0.0, spread = 0.0;
+            for (int g = 0; g < replicate_groups; ++g)
+                mm += (m[g] = at(i, group_value + static_cast<std::size_t>(g)) / stat_unit / counts[g]) / replicate_groups;
+            for (int g = 0; g < replicate_groups; ++g) spread += (m[g] - mm) * (m[g] - mm);
+            return spread / 12.0;
+        }
+        if (n < 2.0) return 0.0;
+        const std::int64_t* sum = &sums_[i * sums_per_pixel];
+        return variance_of_mean(n, sum[Slot::value], sum[value2_high], sum[value2_low]);
+    };
+    // The caustic region is chosen as caustic_region() chooses it on the converged image, but on
+    // each pixel's photon value shrunk towards its neighbourhood's mean (a window of rendered
+    // pixels) as far as its noise makes it uncertain: x = v - (v - m) s^2 / (s^2 + (v - m)^2),
+    // with m and s^2 the window's mean value and mean variance of a pixel's mean. Early on,
+    // where a disc holds a photon or none, the own values alone are spiky: their 99th percentile
+    // is far above the converged one, and they drop the pixels that got no photon though these
+    // belong to the region and err like the others (the sum of the groups' spreads is unbiased
+    // only over pixels chosen independently of their own samples). The percentile is over the
+    // pixels with photons, as on the converged image, and those without whose neighbourhood is
+    // as noisy as it is bright (s^2 >= m^2: they might as well have had some). As the noise
+    // falls, x tends to the pixel's own value and the region to the converged image's.
+    // (In floats: the window's sums only weigh how far a value is uncertain.)
+    std::vector<double> own(pixels, 0.0);
+    std::vector<float> local(pixels, 0.0f), local_var(pixels, 0.0f);
+    for_chunks([&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const double n = at(i, count_slot);
+            if (!rendered(i) || n <= 0.0 || !(at(i, photon) > 0.0)) continue;  // no photon: no photon noise
+            own[i] = at(i, photon) / stat_unit / n;
+            local[i] = static_cast<float>(own[i]);
+            local_var[i] = static_cast<float>(variance_of_pixel_mean(i));
+        }
+    });
+    box_sums(local, width_, height_, region_window);
+    box_sums(local_var, width_, height_, region_window);
+    // The rendered pixels in a window: its overlap with the rendered rectangle.
+    const RenderRegion all = region_rendered.empty()
+                                 ? RenderRegion{0, 0, width_, height_}
+                                 : RenderRegion{std::max(0, region_rendered.x0), std::max(0, region_rendered.y0),
+                                                std::min(width_, region_rendered.x1), std::min(height_, region_rendered.y1)};
+    auto overlap = [](int at, int lo, int hi) {
+        return std::max(0, std::min(hi, at + region_window + 1) - std::max(lo, at - region_window));
+    };
+    std::vector<char> counted(pixels, 0);
+    for_chunks([&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            if (!(local[i] > 0.0f) || !rendered(i)) continue;  // no photon in the window: nothing to weigh
+            const int x = static_cast<int>(i % width), y = static_cast<int>(i / width);
+            const double window = static_cast<double>(overlap(x, all.x0, all.x1) * overlap(y, all.y0, all.y1));
+            const double m = local[i] / window, d = own[i] - m, v = local_var[i] / window;
+            counted[i] = at(i, photon) > 0.0 || (m > 0.0 && v >= m * m);
+            if (v > 0.0) own[i] -= d * v / (v + d * d);
+        }
+    });
+    local = {};
+    local_var = {};
     std::vector<std::vector<double>> lit_parts(chunks);
     for_chunks([&](std::size_t c, std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
-            if (rendered(i) && at(i, photon) > 0.0) lit_parts[c].push_back(at(i, photon) / at(i, count_slot));
+            if (counted[i]) lit_parts[c].push_back(own[i]);
     });
     std::vector<double> lit;
     for (const std::vector<double>& part : lit_parts) lit.insert(lit.end(), part.begin(), part.end());
@@ -207,7 +300,7 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
     };
     std::vector<Part> parts(chunks);
     // Pixel i, of n passes, is in the caustic region the error is measured over.
-    auto in_region = [&](std::size_t i, double n) { return n >= 2.0 && rendered(i) && at(i, photon) / n >= threshold; };
+    auto in_region = [&](std::size_t i, double n) { return n >= 2.0 && rendered(i) && own[i] >= threshold; };
     // A pixel's terms, from its raw mean v, the variance of v, the probe's mean blur and its
     // variance. The shown value cannot be wrong by more than the way to 0 or to 1: a pixel that
     // holds a spot far above 1 has a huge spread and at most that error.
@@ -224,14 +317,8 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
             ++part.region;
             const double v = at(i, value) / stat_unit / n;
             part.shown += std::clamp(v, 0.0, 1.0);
-            double counts[replicate_groups], last_count = n;
-            bool grouped = true;
-            for (int g = 0; g < replicate_groups; ++g) {
-                counts[g] = g < replicate_groups - 1 ? at(i, group_count + static_cast<std::size_t>(g)) : last_count;
-                if (g < replicate_groups - 1) last_count -= counts[g];
-                if (counts[g] < 1.0) grouped = false;
-            }
-            if (!grouped) {
+            double counts[replicate_groups];
+            if (!group_counts(i, counts)) {
                 part.groups = false;
             } else if (part.groups) {
                 double m[replicate_groups], b[replicate_groups];
@@ -331,14 +418,8 @@ void ProgressiveAccumulator::adapt_radius_factors(std::vector<float>& factors,
         noise[i] = shown_variance(v, variance_of_mean(m, d[1], d[2], d[3]) * m / n);
         blur2[i] = shown_blur2(v, static_cast<double>(d[4]) / stat_unit / m, variance_of_mean(m, d[4], d[5], d[6]));
     }
-    // Box sums over the window, rows then columns.
-    auto box = [&](std::vector<double>& v) {
-        std::vector<double> rows(pixels);
-        window_sums(v, rows, width_, 1, height_, static_cast<std::size_t>(width_), half_window);
-        window_sums(rows, v, height_, static_cast<std::size_t>(width_), width_, 1, half_window);
-    };
-    box(noise);
-    box(blur2);
+    box_sums(noise, width_, height_, half_window);
+    box_sums(blur2, width_, height_, half_window);
     for (std::size_t i = 0; i < pixels; ++i) {
         if (!lit[i]) continue;
         // No measurable blur: as large as the step allows.
