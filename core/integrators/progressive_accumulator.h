@@ -98,6 +98,10 @@ public:
     /// int64 per pixel that adapt_radius_factors keeps between updates.
     static constexpr std::size_t snapshot_slots = 7;
 
+    /// Bytes per pixel estimate_error holds while it runs, at most (freed when it returns): the
+    /// region's shrunk values and their window sums, and the values its percentile is taken of.
+    static constexpr std::size_t estimate_bytes_per_pixel = 25;
+
     /// Bytes held: fixed by the image size.
     std::size_t memory_bytes() const {
         return sums_.capacity() * sizeof(std::int64_t);

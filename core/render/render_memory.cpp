@@ -60,13 +60,15 @@ void charge_photon_maps(const RenderJob& job, std::vector<MemoryCharge>& out) {
 
 /// The image the job renders: the session's float image and the copy its output is written
 /// from (12 bytes a pixel each) and, for an accumulation, its per-pixel sums (and a radius per
-/// pixel's factors and snapshots), and the --layers images, charged to the gr.render.
+/// pixel's factors and snapshots, and what its error estimate holds while it runs), and the
+/// --layers images, charged to the gr.render.
 void charge_image(const RenderJob& job, std::vector<MemoryCharge>& out) {
     const int r = job.options.resolution_override;
     const double width = r ? r : job.width, height = r ? r : job.height;
     double per_pixel = 2.0 * sizeof(glm::vec3);
     if (job.options.accumulates()) {
-        per_pixel += ProgressiveAccumulator::sums_per_pixel * sizeof(std::int64_t);
+        per_pixel += ProgressiveAccumulator::sums_per_pixel * sizeof(std::int64_t) +
+                     ProgressiveAccumulator::estimate_bytes_per_pixel;
         if (job.options.adaptive_radius)
             per_pixel += sizeof(float) + ProgressiveAccumulator::snapshot_slots * sizeof(std::int64_t);
     }
