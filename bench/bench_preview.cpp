@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -493,6 +494,11 @@ void launch(const std::string& scene, int runs) {
 
 }  // namespace
 
+constexpr const char* usage =
+    "usage: bench_preview [SCENE.lua] [--changes N] [--frames N] [--size WxH] [--ui-latency] [--fixed-beat]\n"
+    "                     [--compare-pacing] [--draw-profile] [--draw-variants [--fragment FILE]] [--drag]\n"
+    "                     [--launch]   (docs/PERFORMANCE.md, \"The preview\"; what each measures: the file's head)\n";
+
 int main(int argc, char** argv) {
     std::string scene = CAUSTICA_SOURCE_DIR "/scenes/default.lua";
     int changes = 30, frames = 300, width = 1280, height = 720;
@@ -511,9 +517,20 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--changes") && i + 1 < argc) changes = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--size") && i + 1 < argc && std::sscanf(argv[i + 1], "%dx%d", &width, &height) == 2) ++i;
         else if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::atoi(argv[++i]);
-        else scene = argv[i];
+        else if (argv[i][0] == '-') {
+            // --help, or an option it does not know (or one missing its value): the usage.
+            std::fprintf(std::strcmp(argv[i], "--help") ? stderr : stdout, "%s", usage);
+            return std::strcmp(argv[i], "--help") ? 2 : 0;
+        } else scene = argv[i];
     }
-    const SceneScript script = load_scene_script(scene);
+    const SceneScript script = [&] {
+        try {
+            return load_scene_script(scene);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "bench_preview: %s\n", e.what());
+            std::exit(1);
+        }
+    }();
     const RenderJob& job = script.renders.at(0);
     std::printf("bench_preview: %s, %u hardware threads, %lld photons\n", scene.c_str(), std::thread::hardware_concurrency(),
                 job.options.caustic_num_photons);
