@@ -280,8 +280,9 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
               "the scene's unit of distance for photon energy; re-shoots photons"},
              k.unit_distance, &Options::unit_distance);
     // Accumulating passes gather within a radius, not N photons: N then serves a single pass only.
-    const bool gathers_by_radius =
-        integrator_entry(k.integrator).accumulates && model.stop_rules().passes != 1;
+    const StopRules rules = model.stop_rules();
+    const bool gathers_by_radius = integrator_entry(k.integrator).accumulates &&
+                                   (rules.passes != 1 || rules.time_limit > 0.0 || rules.target_error > 0.0);
     ImGui::BeginDisabled(gathers_by_radius);
     knob_row(state,
              {"neighbours N", "caustic-num-neighbours", {1.0, 1e6, false, true}, nullptr,
