@@ -228,7 +228,12 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
     // pixels with photons, as on the converged image, and those without whose neighbourhood is
     // as noisy as it is bright (s^2 >= m^2: they might as well have had some). As the noise
     // falls, x tends to the pixel's own value and the region to the converged image's.
-    // (In floats: the window's sums only weigh how far a value is uncertain.)
+    // The variance is the sample value's (the photon value's alone is not kept): in a render
+    // that is not caustics only, noise of the eye side (anti-aliasing, soft shadows) adds to it
+    // and shrinks a little more, falling as fast. The window's sums are in floats (whether a
+    // pixel counts, and its shrunk value, depend on them: the same bits on any thread count).
+    // At most 25 bytes a pixel at once (estimate_bytes_per_pixel): own, the two window sums and
+    // the sums' row pass; then own, counted and the percentile's values.
     std::vector<double> own(pixels, 0.0);
     std::vector<float> local(pixels, 0.0f), local_var(pixels, 0.0f);
     for_chunks([&](std::size_t, std::size_t begin, std::size_t end) {
@@ -261,16 +266,21 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
             if (v > 0.0) own[i] -= d * v / (v + d * d);
         }
     });
-    local = {};
-    local_var = {};
-    std::vector<std::vector<double>> lit_parts(chunks);
+    std::vector<float>().swap(local);
+    std::vector<float>().swap(local_var);
+    // The percentile's values, in pixel order: counted per chunk, then copied to their place.
+    std::vector<std::size_t> offsets(chunks + 1, 0);
     for_chunks([&](std::size_t c, std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i)
-            if (counted[i]) lit_parts[c].push_back(own[i]);
+        offsets[c + 1] = static_cast<std::size_t>(std::count(counted.begin() + static_cast<std::ptrdiff_t>(begin),
+                                                             counted.begin() + static_cast<std::ptrdiff_t>(end), 1));
     });
-    std::vector<double> lit;
-    for (const std::vector<double>& part : lit_parts) lit.insert(lit.end(), part.begin(), part.end());
-    lit_parts = {};
+    for (std::size_t c = 0; c < chunks; ++c) offsets[c + 1] += offsets[c];
+    std::vector<double> lit(offsets[chunks]);
+    for_chunks([&](std::size_t c, std::size_t begin, std::size_t end) {
+        std::size_t k = offsets[c];
+        for (std::size_t i = begin; i < end; ++i)
+            if (counted[i]) lit[k++] = own[i];
+    });
     // Without photons (nothing specular, no --gi) the whole image is the region: its noise is
     // the eye side's (anti-aliasing, soft shadows).
     double threshold = -1.0;

@@ -99,7 +99,8 @@ public:
     static constexpr std::size_t snapshot_slots = 7;
 
     /// Bytes per pixel estimate_error holds while it runs, at most (freed when it returns): the
-    /// region's shrunk values and their window sums, and the values its percentile is taken of.
+    /// region's shrunk values with their window sums (20), or with the values its percentile is
+    /// taken of and which pixels give one (17), rounded up.
     static constexpr std::size_t estimate_bytes_per_pixel = 25;
 
     /// Bytes held: fixed by the image size.

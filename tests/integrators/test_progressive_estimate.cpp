@@ -81,7 +81,7 @@ TEST(ProgressiveEstimate, WithinAFactorOneAndAHalfOnASharpCaustic) {
 // that happened to catch photons. The peer glass sphere (bench/peers/glass_sphere.lua) at
 // 256 x 256 with a first radius of 1.5: its converged region is a focus in a wide, dim halo. Its
 // reference (tests/data): 1024 passes of ten times the photons from a radius of 1, whose own
-// estimate is 0.02 (docs/ACCURACY.md, "The renderer's estimate"). Choosing the region on the
+// estimate is 0.013 (docs/ACCURACY.md, "The renderer's estimate"). Choosing the region on the
 // pixels' own values read 0.5 to 0.6 of the true error here.
 TEST(ProgressiveEstimate, WithinAFactorOneAndAHalfWhereEarlyPassesLeaveMostDiscsEmpty) {
     const Image reference = read_image_file(CAUSTICA_SOURCE_DIR "/tests/data/glass_sphere_256_caustics.exr");
