@@ -55,7 +55,14 @@ Run measure(long long photons, bool random_emission, bool cone, int neighbours, 
 }  // namespace
 
 int main(int argc, char** argv) {
-    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    const bool quick = argc == 2 && std::strcmp(argv[1], "--quick") == 0;
+    if (argc > 2 || (argc == 2 && !quick)) {  // --help, or anything it does not know
+        const bool help = std::strcmp(argv[1], "--help") == 0;
+        std::fprintf(help ? stdout : stderr,
+                     "usage: caustic_error [--quick]   (a Markdown table of the caustic estimate's error per photon "
+                     "on the virtual light; docs/ACCURACY.md)\n");
+        return help ? 0 : 2;
+    }
     caustica::testing::JobBuilder reference = virtual_light_scene(true);
     reference.job.width = reference.job.height = 96;
     reference.job.options.integrator = IntegratorKind::progressive;
