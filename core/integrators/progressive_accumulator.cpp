@@ -201,18 +201,23 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
         }
         return grouped;
     };
+    // The groups' means m of one statistic of pixel i (its group slots from `first` on) and their
+    // spread, the sum of (m_g - M)^2 with M their mean.
+    auto group_spread = [&](std::size_t i, std::size_t first, const double* counts, double* m) {
+        double sum = 0.0;
+        for (int g = 0; g < replicate_groups; ++g)
+            sum += m[g] = at(i, first + static_cast<std::size_t>(g)) / stat_unit / counts[g];
+        const double mean = sum * (1.0 / replicate_groups);
+        double spread = 0.0;
+        for (int g = 0; g < replicate_groups; ++g) spread += (m[g] - mean) * (m[g] - mean);
+        return spread;
+    };
     // The variance of a pixel's mean value: from its groups' spread when every group has passes
     // (as below), else from all its passes as if independent (none with fewer than 2).
     auto variance_of_pixel_mean = [&](std::size_t i) {
         const double n = at(i, count_slot);
-        double counts[replicate_groups];
-        if (group_counts(i, counts)) {
-            double m[replicate_groups], mm = 0.0, spread = 0.0;
-            for (int g = 0; g < replicate_groups; ++g)
-                mm += (m[g] = at(i, group_value + static_cast<std::size_t>(g)) / stat_unit / counts[g]) / replicate_groups;
-            for (int g = 0; g < replicate_groups; ++g) spread += (m[g] - mm) * (m[g] - mm);
-            return spread / 12.0;
-        }
+        double counts[replicate_groups], m[replicate_groups];
+        if (group_counts(i, counts)) return group_spread(i, group_value, counts, m) / 12.0;
         if (n < 2.0) return 0.0;
         const std::int64_t* sum = &sums_[i * sums_per_pixel];
         return variance_of_mean(n, sum[Slot::value], sum[value2_high], sum[value2_low]);
@@ -332,16 +337,8 @@ ErrorEstimate ProgressiveAccumulator::estimate_error(const RenderRegion& region_
                 part.groups = false;
             } else if (part.groups) {
                 double m[replicate_groups], b[replicate_groups];
-                for (int g = 0; g < replicate_groups; ++g) {
-                    m[g] = at(i, group_value + static_cast<std::size_t>(g)) / stat_unit / counts[g];
-                    b[g] = at(i, group_bias + static_cast<std::size_t>(g)) / stat_unit / counts[g];
-                }
-                const double mm = 0.25 * (m[0] + m[1] + m[2] + m[3]), bm = 0.25 * (b[0] + b[1] + b[2] + b[3]);
-                double spread = 0.0, bias_spread = 0.0;
-                for (int g = 0; g < replicate_groups; ++g) {
-                    spread += (m[g] - mm) * (m[g] - mm);
-                    bias_spread += (b[g] - bm) * (b[g] - bm);
-                }
+                const double spread = group_spread(i, group_value, counts, m);
+                const double bias_spread = group_spread(i, group_bias, counts, b);
                 // Every group surely above 1 shows white, as the converged value most likely does.
                 if (*std::min_element(m, m + replicate_groups) < 1.0)
                     add_pixel_terms(part.from_groups, v, spread / 12.0, at(i, bias) / stat_unit / n, bias_spread / 12.0);
