@@ -519,8 +519,9 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::atoi(argv[++i]);
         else if (argv[i][0] == '-') {
             // --help, or an option it does not know (or one missing its value): the usage.
-            std::fprintf(std::strcmp(argv[i], "--help") ? stderr : stdout, "%s", usage);
-            return std::strcmp(argv[i], "--help") ? 2 : 0;
+            const bool help = !std::strcmp(argv[i], "--help");
+            std::fprintf(help ? stdout : stderr, "%s", usage);
+            return help ? 0 : 2;
         } else scene = argv[i];
     }
     const SceneScript script = [&] {

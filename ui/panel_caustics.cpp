@@ -280,9 +280,10 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
               "the scene's unit of distance for photon energy; re-shoots photons"},
              k.unit_distance, &Options::unit_distance);
     // Accumulating passes gather within a radius, not N photons: N then serves a single pass only.
-    const StopRules rules = model.stop_rules();
-    const bool gathers_by_radius = integrator_entry(k.integrator).accumulates &&
-                                   (rules.passes != 1 || rules.time_limit > 0.0 || rules.target_error > 0.0);
+    Options shown_options;
+    k.apply(shown_options);
+    model.stop_rules().apply(shown_options);
+    const bool gathers_by_radius = shown_options.accumulates();
     ImGui::BeginDisabled(gathers_by_radius);
     knob_row(state,
              {"neighbours N", "caustic-num-neighbours", {1.0, 1e6, false, true}, nullptr,
