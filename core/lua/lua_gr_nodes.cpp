@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cfloat>
 #include <cmath>
+#include <unordered_set>
 
 namespace caustica::scene_lua {
 namespace {
@@ -21,16 +22,16 @@ int add_node(LoaderContext& ctx, NodeKind kind, std::string name, SourceLocation
     return static_cast<int>(ctx.scene.nodes.size()) - 1;
 }
 
-/// True when `target` is `from` or below it (children and CSG operands).
+/// True when `target` is `from` or below it (children and CSG operands). The walk costs what lies
+/// below `from`, not the size of the scene: adding a fresh leaf, the common case, is a constant.
 bool reaches(const SceneDesc& scene, int from, int target) {
-    std::vector<char> seen(scene.nodes.size(), 0);
+    std::unordered_set<int> seen;  // shared subtrees (instances) are walked once
     std::vector<int> stack{from};
     while (!stack.empty()) {
         const int index = stack.back();
         stack.pop_back();
         if (index == target) return true;
-        if (index < 0 || seen[index]) continue;
-        seen[index] = 1;
+        if (index < 0 || !seen.insert(index).second) continue;
         const NodeDesc& node = scene.nodes[index];
         stack.insert(stack.end(), node.children.begin(), node.children.end());
         if (node.csg_left >= 0) stack.push_back(node.csg_left);
