@@ -16,9 +16,10 @@
 namespace caustica::testing {
 namespace {
 
-/// A fixed amount of integer work (a xorshift chain the compiler cannot shorten), built optimised
-/// whatever the test sources' flags, with no memory access for a sanitizer to instrument.
-__attribute__((noinline, optimize("O2"))) std::uint64_t calibration_work(std::uint64_t x, int steps) {
+/// A fixed amount of integer work (a xorshift chain the compiler cannot shorten), with no memory
+/// access for a sanitizer to instrument. This file is built optimised whatever the test sources'
+/// flags (tests/CMakeLists.txt), with GCC and clang alike.
+__attribute__((noinline)) std::uint64_t calibration_work(std::uint64_t x, int steps) {
     for (int i = 0; i < steps; ++i) {
         x ^= x << 13;
         x ^= x >> 7;

@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
+#include <filesystem>
 #include <fstream>
 #include <poll.h>
 #include <sched.h>
@@ -131,6 +132,32 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
     _exit(127);
 }
 
+/// True when a process of group `group` is still running: neither exited (a zombie waiting for
+/// init to reap it) nor the sanitizer runtime's own llvm-symbolizer, which clang's sanitizers
+/// start to name the frames of a report or of a suppressed leak and never reap.
+bool group_still_running(pid_t group) {
+    const std::string ours = std::to_string(group);
+    for (const std::filesystem::directory_entry& entry :
+         std::filesystem::directory_iterator("/proc", std::filesystem::directory_options::skip_permission_denied)) {
+        const std::string name = entry.path().filename().string();
+        if (name.empty() || !std::all_of(name.begin(), name.end(), [](unsigned char c) { return std::isdigit(c); }))
+            continue;
+        std::ifstream file(entry.path() / "stat");
+        std::string stat;
+        if (!std::getline(file, stat)) continue;  // ended meanwhile
+        // pid (comm) state ppid pgrp ...: comm may hold spaces and parentheses, so split at the last ')'.
+        const std::size_t open = stat.find('('), close = stat.rfind(')');
+        if (open == std::string::npos || close == std::string::npos || close < open) continue;
+        const std::string comm = stat.substr(open + 1, close - open - 1);
+        std::istringstream rest(stat.substr(close + 1));
+        std::string state, ppid, pgrp;
+        rest >> state >> ppid >> pgrp;
+        if (pgrp != ours || state == "Z" || state == "X" || comm == "llvm-symbolizer") continue;
+        return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 bool sanitized_build() { return caustica::sanitized_build; }
@@ -208,10 +235,8 @@ Outcome run_child(const Launch& run) {
         if (out_open) out_open = drain(out_pipe[0], out);
         if (err_open) err_open = drain(err_pipe[0], err);
     }
-    if (::kill(-pid, 0) == 0) {
-        outcome.stragglers = true;
-        ::kill(-pid, SIGKILL);
-    }
+    outcome.stragglers = group_still_running(pid);
+    ::kill(-pid, SIGKILL);  // whatever is left of the group, zombies and symbolizer included
     ::close(out_pipe[0]);
     ::close(err_pipe[0]);
     outcome.out = out.text();

@@ -95,6 +95,34 @@ Outcome expect_ctrl_c_after_loading(const fs::path& cwd, const std::string& scen
 
 // ---- S1: no binary chunk reaches the Lua VM ----
 
+TEST(ReproRunner, AProcessLeftRunningInTheGroupIsAStragglerAnEndedOneIsNot) {
+    // The runner's check behind every "no stragglers" expectation: a child left sleeping after its
+    // parent exits is one; a child that ended before it (and was reaped, or is a zombie) is not.
+    Scratch s;
+    Launch left;
+    left.cwd = s.root();
+    left.program = "/bin/sh";
+    left.args = {"-c", "sleep 30 & exit 0"};
+    const Outcome o = run_child(left);
+    EXPECT_EQ(o.exit_code, 0) << o.describe();
+    EXPECT_TRUE(o.stragglers) << o.describe();
+    EXPECT_LT(o.seconds, 10.0) << o.describe();
+
+    Launch ended = left;
+    ended.args = {"-c", "sleep 0 & wait; exit 0"};
+    const Outcome e = run_child(ended);
+    EXPECT_EQ(e.exit_code, 0) << e.describe();
+    EXPECT_FALSE(e.stragglers) << e.describe();
+
+    // A child that ended but was never reaped (the exec'd sleep does not wait for it) is a zombie
+    // until init takes it: not running, so not a straggler.
+    Launch unreaped = left;
+    unreaped.args = {"-c", "sleep 0 & exec sleep 0.2"};
+    const Outcome z = run_child(unreaped);
+    EXPECT_EQ(z.exit_code, 0) << z.describe();
+    EXPECT_FALSE(z.stragglers) << z.describe();
+}
+
 TEST(ReproSandbox, S1_UnwrappedLoadIsUnreachableThroughDebugGetinfo) {
     Scratch s;
     s.copy("sandbox_real_load/escape_load_binary.lua", "scene/escape_load_binary.lua");

@@ -19,7 +19,7 @@ namespace {
 
 using namespace caustica::ui::testing;
 
-constexpr int key_a = 65, key_b = 66;
+constexpr int key_b = 66;
 
 /// The fixture with the test scene: few photons for speed; the README's screenshots show the
 /// scene's own 2 million.
