@@ -86,7 +86,7 @@ smoke bench_loader build/bench_loader --benchmark_min_time=0.001
 smoke bench_photons build/bench_photons --benchmark_min_time=0.001
 smoke bench_photon_grid build/bench_photon_grid --benchmark_min_time=0.001
 smoke bench_photon_knn build/bench_photon_knn --benchmark_min_time=0.001 --benchmark_filter='photons:1M'
-smoke bench_preview build/bench_preview --changes 3 --frames 30 --size 320x180
+smoke bench_preview build/bench_preview tests/ui/scenes/caustic_box.lua --changes 3 --frames 30 --size 320x180  # a small scene: the same paths
 smoke caustic_error build/caustic_error --quick
 smoke trade build/trade --quick --out "$out/trade"   # speed against accuracy (docs/ACCURACY.md)
 smoke image_diff build/image_diff "$out/trade/trade-default.png" "$out/trade/trade-default.png"
