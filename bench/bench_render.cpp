@@ -2,6 +2,7 @@
 // and whole renders of macho-cows.lua at 512 x 512 on 1 and 2 threads (scenes of ../shared/cs488:
 // without it, nothing runs and the program says so).
 //   build/bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include "bench/primary_rays.h"
 #include "core/scene/camera.h"
 #include "core/integrators/progressive.h"
 #include "core/lua/scene_loader.h"
@@ -89,31 +90,10 @@ void BM_EmbreeIntersect8Raw(benchmark::State& state, const std::string& scene_na
     RayQueryContext context;  // its user-geometry callbacks read one
     for (auto _ : state) {
         unsigned hits = 0;
-        for (const Tile& tile : f.tiles) {
-            for (int y = tile.y0; y < tile.y1; ++y) {
-                for (int x = tile.x0; x < tile.x1; x += 8) {
-                    alignas(32) RTCRayHit8 packet;
-                    alignas(32) int valid[8];
-                    for (int i = 0; i < 8; ++i) {
-                        valid[i] = x + i < tile.x1 ? -1 : 0;
-                        const Ray r = f.camera->generate(float(x + i) + 0.5f, float(y) + 0.5f);
-                        packet.ray.org_x[i] = r.origin.x, packet.ray.org_y[i] = r.origin.y, packet.ray.org_z[i] = r.origin.z;
-                        packet.ray.dir_x[i] = r.direction.x, packet.ray.dir_y[i] = r.direction.y;
-                        packet.ray.dir_z[i] = r.direction.z;
-                        packet.ray.tnear[i] = 0.0f;
-                        packet.ray.tfar[i] = ray_infinity;
-                        packet.ray.mask[i] = 0xffffffffu;
-                        packet.ray.flags[i] = 0;
-                        packet.ray.time[i] = 0.0f;
-                        packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-                    }
-                    rtcInitIntersectContext(&context.embree);
-                    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-                    rtcIntersect8(valid, scene, &context.embree, &packet);
-                    for (int i = 0; i < 8; ++i) hits += packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-                }
-            }
-        }
+        for (const Tile& tile : f.tiles)
+            for (int y = tile.y0; y < tile.y1; ++y)
+                for (int x = tile.x0; x < tile.x1; x += 8)
+                    hits += bench::trace_primary_packet(scene, context, *f.camera, x, y, tile.x1);
         benchmark::DoNotOptimize(hits);
     }
     state.SetItemsProcessed(state.iterations() * job.width * job.height);
@@ -129,20 +109,7 @@ void BM_EmbreeIntersect1Raw(benchmark::State& state, const std::string& scene_na
         unsigned hits = 0;
         for (const Tile& tile : f.tiles)
             for (int y = tile.y0; y < tile.y1; ++y)
-                for (int x = tile.x0; x < tile.x1; ++x) {
-                    const Ray r = f.camera->generate(float(x) + 0.5f, float(y) + 0.5f);
-                    RTCRayHit rh;
-                    rh.ray.org_x = r.origin.x, rh.ray.org_y = r.origin.y, rh.ray.org_z = r.origin.z;
-                    rh.ray.dir_x = r.direction.x, rh.ray.dir_y = r.direction.y, rh.ray.dir_z = r.direction.z;
-                    rh.ray.tnear = 0.0f;
-                    rh.ray.tfar = ray_infinity;
-                    rh.ray.mask = 0xffffffffu;
-                    rh.ray.flags = 0;
-                    rh.ray.time = 0.0f;
-                    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                    rtcIntersect1(scene, &context.embree, &rh);
-                    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-                }
+                for (int x = tile.x0; x < tile.x1; ++x) hits += bench::trace_primary_ray(scene, context, *f.camera, x, y);
         benchmark::DoNotOptimize(hits);
     }
     state.SetItemsProcessed(state.iterations() * job.width * job.height);
