@@ -349,6 +349,10 @@ TEST(SceneLoader, BadInputIsReportedWhereItIsWritten) {
         {5, "a = gr.node('a')\nroot:add_child(a)\na:add_child(root)",
          "node:add_child: adding 'root' under 'a' would make a cycle"},
         {3, "root:add_child(root)", "node:add_child: adding 'root' under 'root' would make a cycle"},
+        // Through a CSG operand below a subtree instanced twice.
+        {5, "a = gr.node('a'); u = gr.union(a, gr.sphere('s'))\nb = gr.node('b'); b:add_child(u); b:add_child(u); "
+            "root:add_child(b)\na:add_child(root)",
+         "node:add_child: adding 'root' under 'a' would make a cycle"},
         {3, "gr.union(gr.sphere('s'), gr.material({1,1,1}, {0,0,0}, 1))",
          "gr.union: the second operand must be a node, got a material"},
         {3, "gr.render(gr.air(), 'o.png', 8, 8, {0,0,5}, {0,0,-1}, {0,1,0}, 45, {0,0,0}, {})",
