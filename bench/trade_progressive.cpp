@@ -202,33 +202,38 @@ void make_progressive_reference(const ProgressiveRecipe& recipe, int threads) {
 
 /// Seconds Embree alone takes to trace `rays` rays on `threads` threads, at the rate it traces the
 /// job's primary rays (one per pixel centre, nothing else: the ray-casting rate the image pass is
-/// held against), in 8-wide coherent packets or one ray at a time. Best of three timings of the
-/// whole image.
-double embree_alone_seconds(const RenderJob& job, std::uint64_t rays, int threads, bool packets) {
+/// held against), in 8-wide coherent packets and one ray at a time. Best of three timings of the
+/// whole image each, on one build of the scene.
+struct EmbreeAlone {
+    double packets = 0.0, single = 0.0;
+};
+EmbreeAlone embree_alone_seconds(const RenderJob& job, std::uint64_t rays, int threads) {
     const RenderScene scene(*job.scene, flatten_scene(*job.scene, job.root, true));
     const Camera camera(job.camera, job.width, job.height);
     RTCScene embree = scene.embree_scene();
-    auto rows = [&](int y0, int y1, unsigned& hits) {
-        RayQueryContext context;  // its user-geometry callbacks read one
-        for (int y = y0; y < y1; ++y) {
-            if (packets)
-                for (int x = 0; x < job.width; x += 8) hits += bench::trace_primary_packet(embree, context, camera, x, y, job.width);
-            else
-                for (int x = 0; x < job.width; ++x) hits += bench::trace_primary_ray(embree, context, camera, x, y);
+    auto seconds = [&](bool packets) {
+        auto rows = [&](int y0, int y1, unsigned& hits) {
+            RayQueryContext context;  // its user-geometry callbacks read one
+            for (int y = y0; y < y1; ++y) {
+                if (packets)
+                    for (int x = 0; x < job.width; x += 8) hits += bench::trace_primary_packet(embree, context, camera, x, y, job.width);
+                else
+                    for (int x = 0; x < job.width; ++x) hits += bench::trace_primary_ray(embree, context, camera, x, y);
+            }
+        };
+        double best = 1e30;
+        for (int attempt = 0; attempt < 3; ++attempt) {
+            std::vector<unsigned> hits(static_cast<std::size_t>(threads), 0);
+            std::vector<std::thread> workers;
+            const double t0 = now_seconds();
+            for (int t = 0; t < threads; ++t)
+                workers.emplace_back(rows, job.height * t / threads, job.height * (t + 1) / threads, std::ref(hits[t]));
+            for (std::thread& w : workers) w.join();
+            best = std::min(best, now_seconds() - t0);
         }
+        return best / (static_cast<double>(job.width) * job.height) * static_cast<double>(rays);
     };
-    double best = 1e30;
-    for (int attempt = 0; attempt < 3; ++attempt) {
-        std::vector<unsigned> hits(static_cast<std::size_t>(threads), 0);
-        std::vector<std::thread> workers;
-        const double t0 = now_seconds();
-        for (int t = 0; t < threads; ++t)
-            workers.emplace_back(rows, job.height * t / threads, job.height * (t + 1) / threads, std::ref(hits[t]));
-        for (std::thread& w : workers) w.join();
-        best = std::min(best, now_seconds() - t0);
-    }
-    const double per_ray = best / (static_cast<double>(job.width) * job.height);
-    return per_ray * static_cast<double>(rays);
+    return {seconds(true), seconds(false)};
 }
 
 void pass_timing(const char* scene_name, int width, int height, int passes, int threads) {
@@ -272,14 +277,14 @@ void pass_timing(const char* scene_name, int width, int height, int passes, int 
     const RayCounters& r = stats.rays;
     const std::uint64_t rays = r.total_rays();
     const auto per_pass = static_cast<std::uint64_t>(static_cast<double>(rays) / std::max(1.0, n));
-    const double packets = embree_alone_seconds(job, per_pass, threads, true);
-    const double single = embree_alone_seconds(job, per_pass, threads, false);
+    const EmbreeAlone alone = embree_alone_seconds(job, per_pass, threads);
     const double image = images / std::max(1.0, n);
     std::printf("  rays an image pass %.2f M (primary %.2f, shadow %.2f, reflected %.2f, refracted %.2f)\n"
                 "  Embree alone traces as many primary rays in %.3f s in 8-wide packets, %.3f s one at a time: the\n"
                 "  image pass runs at %.0f%% / %.0f%% of those ray-casting rates\n",
                 rays / n / 1e6, r.primary / n / 1e6, r.shadow / n / 1e6, r.reflected / n / 1e6, r.refracted / n / 1e6,
-                packets, single, image > 0.0 ? 100.0 * packets / image : 0.0, image > 0.0 ? 100.0 * single / image : 0.0);
+                alone.packets, alone.single, image > 0.0 ? 100.0 * alone.packets / image : 0.0,
+                image > 0.0 ? 100.0 * alone.single / image : 0.0);
 }
 
 bool progressive_lua_scene(const ProgressiveRecipe& recipe, int threads, TradeScene& scene) {
