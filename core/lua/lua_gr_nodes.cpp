@@ -19,11 +19,12 @@ int add_node(LoaderContext& ctx, NodeKind kind, std::string name, SourceLocation
     node.kind = kind;
     node.where = std::move(where);
     ctx.scene.nodes.push_back(std::move(node));
+    ctx.node_is_held.push_back(false);
     return static_cast<int>(ctx.scene.nodes.size()) - 1;
 }
 
 /// True when `target` is `from` or below it (children and CSG operands). The walk costs what lies
-/// below `from`, not the size of the scene: adding a fresh leaf, the common case, is a constant.
+/// below `from`, not the size of the scene: adding a fresh leaf is a constant.
 bool reaches(const SceneDesc& scene, int from, int target) {
     std::unordered_set<int> seen;  // shared subtrees (instances) are walked once
     std::vector<int> stack{from};
@@ -308,6 +309,7 @@ CallResult csg(lua_State* L, LoaderContext& ctx, NodeKind kind, const char* defa
     const int index = add_node(ctx, kind, std::move(name), caller_location(L));
     ctx.scene.nodes[index].csg_left = left;
     ctx.scene.nodes[index].csg_right = right;
+    ctx.node_is_held[left] = ctx.node_is_held[right] = true;
     return CallResult::of(HandleKind::node, index);
 }
 
@@ -323,13 +325,16 @@ CallResult node_add_child(lua_State* L, LoaderContext& ctx) {
     const int parent = self_arg(L, HandleKind::node);
     expect_arguments(L, 2, 1, 1, "child");
     const int child = handle_arg(L, 2, HandleKind::node, "child");
-    if (reaches(ctx.scene, child, parent)) {
+    // A cycle needs the parent below the child, so held by some node: a parent nothing holds (a
+    // chain built from its leaf up) is checked without walking what lies below the child.
+    if (child == parent || (ctx.node_is_held[parent] && reaches(ctx.scene, child, parent))) {
         const std::string child_name = ctx.scene.nodes[child].name, parent_name = ctx.scene.nodes[parent].name;
         throw InputError("adding '" + child_name + "' under '" + parent_name +
                          "' would make a cycle (a node cannot be its own descendant)");
     }
     charge_append(ctx, ctx.scene.nodes[parent].children, 0, "child lists");
     ctx.scene.nodes[parent].children.push_back(child);
+    ctx.node_is_held[child] = true;
     return CallResult::nothing();
 }
 

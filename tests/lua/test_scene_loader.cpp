@@ -349,6 +349,9 @@ TEST(SceneLoader, BadInputIsReportedWhereItIsWritten) {
         {5, "a = gr.node('a')\nroot:add_child(a)\na:add_child(root)",
          "node:add_child: adding 'root' under 'a' would make a cycle"},
         {3, "root:add_child(root)", "node:add_child: adding 'root' under 'root' would make a cycle"},
+        // A chain built from its leaf up, closed at the leaf.
+        {4, "a = gr.node('a'); b = gr.node('b'); b:add_child(a); c = gr.node('c'); c:add_child(b)\na:add_child(c)",
+         "node:add_child: adding 'c' under 'a' would make a cycle"},
         // Through a CSG operand below a subtree instanced twice.
         {5, "a = gr.node('a'); u = gr.union(a, gr.sphere('s'))\nb = gr.node('b'); b:add_child(u); b:add_child(u); "
             "root:add_child(b)\na:add_child(root)",
