@@ -57,6 +57,8 @@ struct LoaderContext {
     SceneDesc scene;
     std::vector<bool> texture_is_bumpmap;   ///< parallel to scene.textures
     std::vector<bool> node_is_held;         ///< parallel to scene.nodes: some node's child or CSG operand
+    std::vector<std::uint32_t> node_walk_mark;  ///< parallel to scene.nodes: add_child's cycle walk that saw it
+    std::uint32_t node_walk = 0;            ///< the last cycle walk's number (marks above are older walks)
     std::map<std::pair<std::uint64_t, std::uint64_t>, int> mesh_cache;  ///< (device, inode) -> scene.meshes index
     int isodecahedron_mesh = -1;            ///< scene.meshes index of gr.isodecahedron's mesh, made once
     std::map<std::pair<std::uint64_t, std::uint64_t>, std::shared_ptr<const Png8>> image_cache;  ///< decoded once per file

@@ -4,36 +4,48 @@
 #include "core/lua/scene_files.h"
 #include "core/geometry/mesh_obj.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cfloat>
 #include <cmath>
-#include <unordered_set>
+#include <cstdint>
 
 namespace caustica::scene_lua {
 namespace {
 
 int add_node(LoaderContext& ctx, NodeKind kind, std::string name, SourceLocation where) {
     charge_append(ctx, ctx.scene.nodes, name.capacity() + where.file.capacity(), "scene nodes");
+    // The cycle check's per-node state (not in the scene's snapshots): charged as its buffer grows.
+    if (ctx.node_walk_mark.size() == ctx.node_walk_mark.capacity())
+        charge_memory(ctx, std::max<std::size_t>(1, ctx.node_walk_mark.capacity()) * (sizeof(std::uint32_t) + 1),
+                      "scene nodes");
     NodeDesc node;
     node.name = std::move(name);
     node.kind = kind;
     node.where = std::move(where);
     ctx.scene.nodes.push_back(std::move(node));
     ctx.node_is_held.push_back(false);
+    ctx.node_walk_mark.push_back(0);
     return static_cast<int>(ctx.scene.nodes.size()) - 1;
 }
 
 /// True when `target` is `from` or below it (children and CSG operands). The walk costs what lies
-/// below `from`, not the size of the scene: adding a fresh leaf is a constant.
-bool reaches(const SceneDesc& scene, int from, int target) {
-    std::unordered_set<int> seen;  // shared subtrees (instances) are walked once
+/// below `from`, not the size of the scene: each walk has a number, and a node it has seen carries
+/// that number, so nothing is cleared between walks and shared subtrees (instances) are walked once.
+bool reaches(LoaderContext& ctx, int from, int target) {
+    if (++ctx.node_walk == 0) {  // the numbers wrapped around: forget every mark
+        std::fill(ctx.node_walk_mark.begin(), ctx.node_walk_mark.end(), 0u);
+        ctx.node_walk = 1;
+    }
+    const std::uint32_t walk = ctx.node_walk;
     std::vector<int> stack{from};
     while (!stack.empty()) {
         const int index = stack.back();
         stack.pop_back();
         if (index == target) return true;
-        if (index < 0 || !seen.insert(index).second) continue;
-        const NodeDesc& node = scene.nodes[index];
+        if (index < 0 || ctx.node_walk_mark[static_cast<std::size_t>(index)] == walk) continue;
+        ctx.node_walk_mark[static_cast<std::size_t>(index)] = walk;
+        const NodeDesc& node = ctx.scene.nodes[static_cast<std::size_t>(index)];
         stack.insert(stack.end(), node.children.begin(), node.children.end());
         if (node.csg_left >= 0) stack.push_back(node.csg_left);
         if (node.csg_right >= 0) stack.push_back(node.csg_right);
@@ -327,7 +339,7 @@ CallResult node_add_child(lua_State* L, LoaderContext& ctx) {
     const int child = handle_arg(L, 2, HandleKind::node, "child");
     // A cycle needs the parent below the child, so held by some node: a parent nothing holds (a
     // chain built from its leaf up) is checked without walking what lies below the child.
-    if (child == parent || (ctx.node_is_held[parent] && reaches(ctx.scene, child, parent))) {
+    if (child == parent || (ctx.node_is_held[parent] && reaches(ctx, child, parent))) {
         const std::string child_name = ctx.scene.nodes[child].name, parent_name = ctx.scene.nodes[parent].name;
         throw InputError("adding '" + child_name + "' under '" + parent_name +
                          "' would make a cycle (a node cannot be its own descendant)");
