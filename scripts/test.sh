@@ -88,6 +88,7 @@ smoke bench_photon_grid build/bench_photon_grid --benchmark_min_time=0.001
 smoke bench_photon_knn build/bench_photon_knn --benchmark_min_time=0.001 --benchmark_filter='photons:1M'
 smoke bench_preview build/bench_preview tests/ui/scenes/caustic_box.lua --changes 3 --frames 30 --size 320x180  # a small scene: the same paths
 smoke caustic_error build/caustic_error --quick
+smoke probe_model build/probe_model   # the blur probe on model caustics (docs/ACCURACY.md)
 smoke trade build/trade --quick --out "$out/trade"   # speed against accuracy (docs/ACCURACY.md)
 smoke image_diff build/image_diff "$out/trade/trade-default.png" "$out/trade/trade-default.png"
 # image_diff reads float images: a PFM against itself differs by 0, against the same render's
