@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages caustica needs (build, tests, preview under Xvfb, gnuplot for
-# bench/trade plots, POV-Ray for bench/peers, clang with libFuzzer and llvm-symbolizer for
-# scripts/fuzz.sh, Open MPI for `mpirun caustica render`); does nothing when all are present.
+# bench/trade plots, POV-Ray for bench/peers, clang for the sanitized suite of scripts/test.sh and,
+# with libFuzzer and llvm-symbolizer, for scripts/fuzz.sh, Open MPI for `mpirun caustica render`);
+# does nothing when all are present.
 set -euo pipefail
 packages=(build-essential cmake pkg-config ninja-build libglfw3-dev libimgui-dev libosmesa6-dev
           libglm-dev libpng-dev liblua5.4-dev libembree-dev libtbb-dev libnanoflann-dev
