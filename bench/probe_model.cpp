@@ -48,7 +48,7 @@ double disc_average(const Chords& c, const Caustic& f, double x, double rho) {
     return sum;
 }
 
-double pixel_mean(const std::function<double(double)>& g, double x0) {
+double pixel_mean(const Caustic& g, double x0) {
     double sum = 0.0;
     for (int k = 0; k < subpixels; ++k) sum += g(x0 + (k + 0.5) / subpixels);
     return sum / subpixels;
