@@ -16,6 +16,7 @@ constexpr std::uint32_t photons = bit(KnobField::photons), unit = bit(KnobField:
                         dots = bit(KnobField::dots), integrator = bit(KnobField::integrator), gi = bit(KnobField::gi),
                         gi_photons = bit(KnobField::gi_photons), gi_neighbours = bit(KnobField::gi_neighbours), layer = bit(KnobField::layer),
                         first_radius = bit(KnobField::first_radius), adaptive_radius = bit(KnobField::adaptive_radius),
+                        auto_radius = bit(KnobField::auto_radius),
                         guided_emission = bit(KnobField::guided_emission),
                         photons_per_pixel = bit(KnobField::photons_per_pixel), photon_split = bit(KnobField::photon_split),
                         radius_alpha = bit(KnobField::radius_alpha);
@@ -59,6 +60,7 @@ const char* knob_label(KnobField field) {
     case KnobField::layer: return "show";
     case KnobField::first_radius: return "first radius";
     case KnobField::adaptive_radius: return "radius per pixel";
+    case KnobField::auto_radius: return "balanced radius";
     case KnobField::guided_emission: return "guided emission";
     case KnobField::photons_per_pixel: return "photons per pixel";
     case KnobField::photon_split: return "photon splitting";
@@ -85,6 +87,7 @@ std::string knob_value_text(const CausticKnobs& k, KnobField field) {
     case KnobField::layer: return shown_layer_name(k.layer);
     case KnobField::first_radius: return exact_number(k.first_radius);
     case KnobField::adaptive_radius: return k.adaptive_radius ? "on" : "off";
+    case KnobField::auto_radius: return k.auto_radius ? "on" : "off";
     case KnobField::guided_emission: return k.guided_emission ? "on" : "off";
     case KnobField::photons_per_pixel: return k.photons_per_pixel == 0.0 ? "0 (off)" : exact_number(k.photons_per_pixel);
     case KnobField::photon_split: return k.photon_split ? "on" : "off";
@@ -120,6 +123,7 @@ std::vector<std::string> knob_tokens(const CausticKnobs& k, const CausticKnobs& 
     case KnobField::layer: return {"--show-layer", shown_layer_name(k.layer)};
     case KnobField::first_radius: return {"--accumulation-radius", exact_number(k.first_radius)};
     case KnobField::adaptive_radius: return {"--adaptive-radius", k.adaptive_radius ? "on" : "off"};
+    case KnobField::auto_radius: return {"--auto-radius", k.auto_radius ? "on" : "off"};
     case KnobField::guided_emission: return {"--guided-emission", k.guided_emission ? "on" : "off"};
     case KnobField::photons_per_pixel: return {"--photons-per-pixel", exact_number(k.photons_per_pixel)};
     case KnobField::photon_split: return {"--photon-split", k.photon_split ? "on" : "off"};
@@ -146,6 +150,7 @@ CausticKnobs CausticKnobs::from(const Options& o) {
     k.layer = o.show_layer;
     k.first_radius = o.accumulation_radius;
     k.adaptive_radius = o.adaptive_radius;
+    k.auto_radius = o.auto_radius;
     k.guided_emission = o.guided_emission;
     k.photons_per_pixel = o.photons_per_pixel;
     k.photon_split = o.photon_split;
@@ -170,6 +175,7 @@ void CausticKnobs::apply(Options& o) const {
     o.show_layer = layer;
     o.accumulation_radius = first_radius;
     o.adaptive_radius = adaptive_radius;
+    o.auto_radius = auto_radius;
     o.guided_emission = guided_emission;
     o.photons_per_pixel = photons_per_pixel;
     o.photon_split = photon_split;
@@ -193,6 +199,7 @@ void KnobOverrides::record(const CausticKnobs& a, const CausticKnobs& b) {
     if (a.layer != b.layer) mask_ |= layer;
     if (a.first_radius != b.first_radius) mask_ |= first_radius;
     if (a.adaptive_radius != b.adaptive_radius) mask_ |= adaptive_radius;
+    if (a.auto_radius != b.auto_radius) mask_ |= auto_radius;
     if (a.guided_emission != b.guided_emission) mask_ |= guided_emission;
     if (a.photons_per_pixel != b.photons_per_pixel) mask_ |= photons_per_pixel;
     if (a.photon_split != b.photon_split) mask_ |= photon_split;
@@ -217,6 +224,7 @@ CausticKnobs KnobOverrides::merge(const CausticKnobs& script, const CausticKnobs
     if (mask_ & layer) k.layer = person.layer;
     if (mask_ & first_radius) k.first_radius = person.first_radius;
     if (mask_ & adaptive_radius) k.adaptive_radius = person.adaptive_radius;
+    if (mask_ & auto_radius) k.auto_radius = person.auto_radius;
     if (mask_ & guided_emission) k.guided_emission = person.guided_emission;
     if (mask_ & photons_per_pixel) k.photons_per_pixel = person.photons_per_pixel;
     if (mask_ & photon_split) k.photon_split = person.photon_split;

@@ -28,6 +28,7 @@ struct CausticKnobs {
     ShadingLayer layer = ShadingLayer::beauty;  ///< show_layer: the layer of the light shown
     double first_radius = 3.0;       ///< accumulation_radius (progressive, pixel footprints)
     bool adaptive_radius = false;    ///< adaptive_radius (progressive: a radius per pixel)
+    bool auto_radius = false;        ///< auto_radius (progressive: one factor on every radius)
     bool guided_emission = true;     ///< guided_emission (progressive)
     double photons_per_pixel = 0.0;  ///< photons_per_pixel (progressive; 0 = the photon count as given)
     bool photon_split = false;       ///< photon_split (progressive)
@@ -63,6 +64,7 @@ enum class KnobField : std::uint32_t {
     photons_per_pixel = 1u << 17,
     photon_split = 1u << 18,
     radius_alpha = 1u << 19,
+    auto_radius = 1u << 20,
 };
 
 /// Every knob field, in the panel's order.
@@ -70,7 +72,8 @@ inline constexpr KnobField all_knob_fields[] = {
     KnobField::integrator, KnobField::photons,  KnobField::unit, KnobField::neighbours,  KnobField::max_dist,
     KnobField::fudge,      KnobField::map_mode, KnobField::granularity, KnobField::only, KnobField::dots,
     KnobField::gi,         KnobField::gi_photons, KnobField::gi_neighbours, KnobField::layer,
-    KnobField::first_radius, KnobField::radius_alpha, KnobField::adaptive_radius, KnobField::guided_emission,
+    KnobField::first_radius, KnobField::radius_alpha, KnobField::auto_radius, KnobField::adaptive_radius,
+    KnobField::guided_emission,
     KnobField::photon_split, KnobField::photons_per_pixel,
 };
 

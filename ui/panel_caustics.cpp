@@ -241,11 +241,15 @@ void draw_caustics_section(ViewModel& model, PanelState& state) {
                   "the first gather radius in pixel footprints (shrinking pass by pass): smaller is sharper and "
                   "noisier; 1.5 suits thin or sharp-edged caustics, 3 smooth ones. Starts the accumulation again"},
                  k.first_radius, &Options::accumulation_radius);
+        ImGui::Checkbox("balanced radius", &k.auto_radius);
+        hint("--auto-radius: every radius scaled by one factor before passes 4, 8, 16, ... so that the estimate's "
+             "blur and noise balance: one setting for thin and smooth caustics alike (start it from a first radius "
+             "of 1.5). Starts the accumulation again");
+        ImGui::SameLine();
         ImGui::Checkbox("radius per pixel", &k.adaptive_radius);
         hint("--adaptive-radius: each pixel's radius shrinks where its blur outweighs its noise (after 8, 32, "
              "128, ... passes); with a first radius of 1.5, the lowest error measured on sharp caustics. Starts "
              "the accumulation again");
-        ImGui::SameLine();
         ImGui::Checkbox("guided emission", &k.guided_emission);
         hint("--guided-emission: after the first pass, more photons through the parts of the projection map "
              "whose photons lit what the image shows below white; the same image on average. Starts the "

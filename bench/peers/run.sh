@@ -32,10 +32,11 @@
 # PASSES, --time 1e6); PP_PHOTONS directions a pass (default 3e6, 2e7 for the glass of liquid),
 # PP_NEIGHBOURS (8; no longer what sets the first radius), PP_RADIUS its first radius in pixel
 # footprints (--accumulation-radius; empty: the default), PP_PER_PIXEL its --photons-per-pixel
-# (empty: the directions as given), jittered samples (no --disable-aa); its own
-# pixel-averaged reference is PP_REF_PASSES (512) passes of PP_REF_PHOTONS from a first radius of
-# PP_REF_RADIUS (1) pixel footprints, a third of the default's blur at sharp edges (its own estimated
-# error is in the report: errors below it are not measurable). Cycles (<scene>_cycles.py,
+# (empty: the directions as given), PP_AUTO_RADIUS its --auto-radius (on|off; empty: the default),
+# jittered samples (no --disable-aa); its own pixel-averaged reference is PP_REF_PASSES (512)
+# passes of PP_REF_PHOTONS from a first radius of PP_REF_RADIUS (1) pixel footprints, a third of
+# the default's blur at sharp edges (its own estimated error is in the report: errors below it are
+# not measurable). Cycles (<scene>_cycles.py,
 # cycles_common.py): CPU, THREADS threads, path tracing with shadow caustics (MNEE, mode "mnee")
 # and without ("path"), time-limited to each of CYCLES_TIMES (1 2 5 15 60) seconds; its
 # references (one per mode, CYCLES_REF_TIME = 600 s of sampling) are made when missing or out of
@@ -71,6 +72,7 @@ pp_ref_photons=${PP_REF_PHOTONS:-30000000}
 pp_ref_radius=${PP_REF_RADIUS:-1}
 pp_radius=${PP_RADIUS:-}
 pp_per_pixel=${PP_PER_PIXEL:-}
+pp_auto_radius=${PP_AUTO_RADIUS:-}
 cycles=${CYCLES:-1}
 blender=${BLENDER:-blender}
 cycles_modes=${CYCLES_MODES:-"mnee path"}
@@ -166,7 +168,7 @@ caustica_timed() {
   wall "$4.time" "$4.log" "$build/caustica" render -S --integrator progressive --threads "$threads" "${resolution_flag[$size]}" \
     --passes 0 --time "$2" --caustic-num-photons "$3" --caustic-num-neighbours "$pp_neighbours" \
     ${pp_radius:+--accumulation-radius "$pp_radius"} ${pp_per_pixel:+--photons-per-pixel "$pp_per_pixel"} \
-    "$here/$1.lua" -o "$4"
+    ${pp_auto_radius:+--auto-radius "$pp_auto_radius"} "$here/$1.lua" -o "$4"
 }
 caustica_passes_done() { sed -n 's/^ *progressive passes *\([0-9]*\).*/\1/p' "$1.log" | head -1; }
 # cycles_run SCENE MODE SECONDS SEED PREFIX: one Cycles render of SECONDS of sampling (its time
@@ -515,7 +517,7 @@ measure_progressive() {
     echo "- POV-Ray 3.7: $neighbours photons per estimate within $pov_radius, levels of stored photons $levels;" \
          "reference $reference stored."
     echo "- caustica: progressive integrator, $caustica_curve, ${pp_photons:-3e6 (2e7 for glass_of_liquid)}" \
-         "directions a pass${pp_per_pixel:+ raised to $pp_per_pixel traced photons per pixel (time curve)}, N $pp_neighbours, first radius ${pp_radius:-3 (the default)} pixel footprints; reference $pp_ref_passes passes of $pp_ref_photons from a first radius" \
+         "directions a pass${pp_per_pixel:+ raised to $pp_per_pixel traced photons per pixel (time curve)}, N $pp_neighbours, first radius ${pp_radius:-3 (the default)} pixel footprints${pp_auto_radius:+, --auto-radius $pp_auto_radius}; reference $pp_ref_passes passes of $pp_ref_photons from a first radius" \
          "of $pp_ref_radius pixel footprints."
     if [[ -n $cycles_modes ]]; then
       echo "- Cycles ($blender_version): CPU, $threads threads, box filter of one pixel, no denoising, no" \

@@ -33,6 +33,14 @@ int adaptation_after(int pass) {
     return next < max_accumulated_passes ? static_cast<int>(next) : 0;
 }
 
+/// The first pass after `pass` before which --auto-radius scales the radii: 4, 8, 16, ... (from
+/// pass 4 every replicate group has a pass, and the estimate its noise from their spread).
+int balance_after(int pass) {
+    long long next = replicate_groups;
+    while (next <= pass) next *= 2;
+    return next < max_accumulated_passes ? static_cast<int>(next) : 0;
+}
+
 double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -203,6 +211,31 @@ void ProgressiveRender::adapt_radii(Cluster* cluster, const std::atomic<bool>& c
     std::memcpy(factors.data(), bytes.data(), bytes.size());
 }
 
+void ProgressiveRender::balance_radii(Cluster* cluster, const std::atomic<bool>& cancel, int pass, double alpha,
+                                      const RenderRegion& region) {
+    // Pass i at r^2 s has s times the blur and 1/s times the variance of one at r^2 (a disc's blur
+    // grows as r^2, its photon count too). With the estimate's noise n and blur b over the caustic
+    // region, taken as if every pass so far had gathered at the present s, the passes so far err
+    // least when s' = s (n^2 / 2 b^2)^(1/3): the squared blur half the variance of the mean. With
+    // alpha = 2/3 the Knaus-Zwicker sequence shrinks both alike from there, so the balance holds
+    // (docs/CAUSTICS.md, "The radius, balanced"). Earlier passes at other radii weigh less at each
+    // update (4, 8, 16, ...), so the updates settle where the whole accumulation is balanced. A
+    // step grows r^2 by at most 2 (a blur read as 0 among the first passes' noise included) and
+    // shrinks it by at most 16.
+    const ErrorEstimate e = cluster && cluster->size() > 1 ? combined_error(*cluster, cancel)
+                                                           : accumulator_.estimate_error(region);
+    // Every rank walks the sequence to the same pass before scaling it: the same bits.
+    while (state_.scale_pass < pass) {
+        state_.scale2 = next_radius2(state_.scale2, state_.scale_pass + 1, alpha);
+        ++state_.scale_pass;
+    }
+    if (!e.known || !(e.noise > 0.0)) return;
+    constexpr double max_growth = 2.0, max_shrink = 16.0, max_scale2 = 16.0;
+    const double balance = e.bias > 0.0 ? e.noise * e.noise / (2.0 * e.bias * e.bias) : max_growth * max_growth * max_growth;
+    const double step = std::clamp(std::cbrt(balance), 1.0 / max_shrink, max_growth);
+    state_.scale2 = std::min(max_scale2, state_.scale2 * step);
+}
+
 void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const TileContext& context) {
     // Progressive photon mapping, memoryless (Knaus & Zwicker 2011; docs/CAUSTICS.md): pass i
     // shoots a fresh photon stream and gathers within radius r_i, r_{i+1}^2 = r_i^2 (i + alpha) /
@@ -350,11 +383,15 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
             break;
         }
         // The radius factors change between passes every rank has finished: before pass 8, 32,
-        // 128, ... (a round with ranks ends there), from the sums of all the passes before.
-        const bool adapting = options.adaptive_radius && has_photons;
+        // 128, ... (a round with ranks ends there), from the sums of all the passes before; the
+        // balanced radius's scale likewise, before pass 4, 8, 16, ...
+        const bool adapting = options.adaptive_radius && has_photons, balancing = options.auto_radius && has_photons;
+        if (balancing && base > 0 && balance_after(base - 1) == base)
+            balance_radii(shared ? cluster : nullptr, cancel, base, alpha, region);
         if (adapting && base > 0 && adaptation_after(base - 1) == base) adapt_radii(shared ? cluster : nullptr, cancel);
         int round_end = base + ranks;
         if (const int next = adapting ? adaptation_after(base) : 0; next > 0) round_end = std::min(round_end, next);
+        if (const int next = balancing ? balance_after(base) : 0; next > 0) round_end = std::min(round_end, next);
         const int p = base + rank;
         const bool mine = (limit == 0 || p < limit) && p < round_end;
         const double t0 = now_seconds();

@@ -63,6 +63,10 @@ private:
         std::vector<std::int64_t> adapted_sums;  // the sums at the last update (rank 0's, with ranks)
     };
 
+    /// --auto-radius: before pass `pass`, scales the radius sequence from there on so that the
+    /// blur and the noise of the estimate from every rank's sums balance (a collective with ranks).
+    void balance_radii(Cluster* cluster, const std::atomic<bool>& cancel, int pass, double alpha,
+                       const RenderRegion& region);
     /// Updates the radius factors from every rank's sums (a collective with ranks).
     void adapt_radii(Cluster* cluster, const std::atomic<bool>& cancel);
 

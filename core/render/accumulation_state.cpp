@@ -134,7 +134,7 @@ std::uint64_t checked_length(const Preamble& p, const AccumulationState& s, cons
             "declares " + std::to_string(s.next_pass) + " passes");
     require(s.scale_pass >= 0 && s.scale_pass <= s.next_pass && s.photons_emitted >= 0, name,
             "its pass counts are inconsistent");
-    require(std::isfinite(s.scale2) && s.scale2 > 0.0 && s.scale2 <= 1.0 && finite_at_least_zero(s.first_radius) &&
+    require(std::isfinite(s.scale2) && s.scale2 > 0.0 && s.scale2 <= 16.0 && finite_at_least_zero(s.first_radius) &&
                 finite_at_least_zero(s.radius) && finite_at_least_zero(s.typical_radius) && finite_at_least_zero(s.seconds),
             name, "a radius or time in its header is out of range");
     const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);

@@ -36,7 +36,7 @@ struct AccumulationState {
     AccumulationKey key;
     int next_pass = 0;            ///< 0-based index of the next pass
     int scale_pass = 0;           ///< the pass scale2 is for
-    double scale2 = 1.0;          ///< (r_i / r_1)^2 of pass scale_pass
+    double scale2 = 1.0;          ///< (r_i / r_1)^2 of pass scale_pass, in (0, 16] (--auto-radius scales it)
     double first_radius = 0.0, radius = 0.0, typical_radius = 0.0;
     std::uint64_t seed = 0;       ///< base of the photon and pixel streams
     long long photons_emitted = 0;

@@ -320,6 +320,11 @@ const std::vector<OptionSpec>& option_table() {
                      "progressive: shrink or grow each pixel's gather radius after 8, 32, 128, ... passes so that "
                      "its blur and noise balance (off: one radius sequence for every pixel)",
                      &Options::adaptive_radius, {{"on", true}, {"off", false}}).feeds(stage_image),
+        choice<bool>("auto-radius", "on|off", "caustics",
+                     "progressive: scale every gather radius by one factor before passes 4, 8, 16, ... so that the "
+                     "blur and the noise of the error estimate balance (off: --accumulation-radius as given, shrinking "
+                     "by the fixed sequence)",
+                     &Options::auto_radius, {{"on", true}, {"off", false}}).feeds(stage_image),
         choice<bool>("photon-split", "on|off", "caustics",
                      "progressive: carry the specular weight at mirrors and glass and follow both the reflected and "
                      "the refracted photon, instead of Russian roulette",

@@ -75,6 +75,7 @@ struct Options {
     bool caustic_cone_filter = false;  ///< Jensen's cone filter instead of the plain disc average
     bool photon_random_emission = false;  ///< independent random photon directions instead of low-discrepancy
     bool adaptive_radius = false;  ///< progressive: each pixel's radius balances its blur and noise
+    bool auto_radius = false;      ///< progressive: one factor on every radius balances the image's blur and noise
     bool photon_split = false;     ///< progressive: split photons at mirrors and glass instead of roulette
     bool guided_emission = true;   ///< progressive: weight the projection map's cells by what their photons add to the image
     /// progressive: each pass shoots enough directions that about this many photons per image pixel

@@ -168,6 +168,36 @@ TEST(ProgressivePasses, AdaptedRadiiCutTheBlurOfALargeFirstRadius) {
     }
 }
 
+// --auto-radius on (docs/CAUSTICS.md, "The radius, balanced"): from a first radius far too large
+// (blur) or far too small (noise), one factor on every radius moves the accumulation towards the
+// balance of the two, against the analytic answer, and the radii from either side meet.
+TEST(ProgressivePasses, BalancedRadiusCorrectsAFirstRadiusEitherWay) {
+    const Image& truth = accumulated_virtual_light_truth();
+    double last_radius[2] = {0.0, 0.0};
+    for (double first_radius : {8.0, 0.5}) {
+        double errors[2], radius[2];
+        for (bool balanced : {false, true}) {
+            RenderJob job = progressive_virtual_light(96, 20'000, 20, 64);
+            job.options.reproducible = true;
+            job.options.accumulation_radius = first_radius;
+            job.options.auto_radius = balanced;
+            RenderSession session;
+            session.set_job(job);
+            session.start();
+            ASSERT_TRUE(session.wait());
+            errors[balanced] = caustic_region_error(session.image(), truth);
+            radius[balanced] = session.stats().accumulation.radius;
+        }
+        std::printf("r1 %.1f footprints, 64 passes: one sequence %.4f (radius %.4f), balanced %.4f (radius %.4f)\n",
+                    first_radius, errors[0], radius[0], errors[1], radius[1]);
+        EXPECT_LT(errors[1], 0.8 * errors[0]) << first_radius;
+        last_radius[first_radius < 1.0] = radius[1];
+    }
+    // 16 times apart at the first pass; within 2 of each other after 64.
+    EXPECT_LT(last_radius[0] / last_radius[1], 2.0);
+    EXPECT_GT(last_radius[0] / last_radius[1], 0.5);
+}
+
 namespace {
 
 /// The virtual light at 48 x 48, as the error-estimate test renders it: about 4 ms a pass for

@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <string>
 
 using namespace caustica;
@@ -113,6 +114,23 @@ TEST(AccumulationState, WithoutRadiusFactorsTheFileIsHeaderSumsAndChecksum) {
     EXPECT_TRUE(back.radius_factors.empty());
     EXPECT_TRUE(back.adapted_sums.empty());
     EXPECT_EQ(back.sums, s.sums);
+}
+
+TEST(AccumulationState, ARadiusScaleIsTakenUpTo16AndRefusedBeyond) {
+    // --auto-radius may raise the scale above 1, never above 16.
+    for (double scale2 : {1e-12, 1.0, 4.5, 16.0}) {
+        AccumulationState s = small_state();
+        s.scale2 = scale2;
+        EXPECT_EQ(decode_accumulation_state(encode_accumulation_state(s), "x", 3, 2).scale2, scale2);
+    }
+    for (double scale2 : {0.0, -1.0, 16.5, 1e300, std::numeric_limits<double>::infinity(),
+                          std::numeric_limits<double>::quiet_NaN()}) {
+        AccumulationState s = small_state();
+        s.scale2 = scale2;
+        EXPECT_NE(refusal(encode_accumulation_state(s)).find("a radius or time in its header is out of range"),
+                  std::string::npos)
+            << scale2;
+    }
 }
 
 TEST(AccumulationState, EveryTruncationIsRefusedWithTheFileName) {
@@ -261,6 +279,33 @@ TEST(AccumulationState, ContinuingASavedAccumulationGivesTheBitsOfOneRun) {
         decode_accumulation_state(encode_accumulation_state(tiny), "state", tiny.key.width, tiny.key.height);
     RenderSession fourth;
     EXPECT_TRUE(same_bits(render_to_end(fourth, focus_job(12), &tiny_read), whole));
+}
+
+TEST(AccumulationState, ContinuingABalancedAccumulationGivesTheBitsOfOneRun) {
+    // With the balanced radius: 6 passes saved (the sequence scaled before passes 4), continued to
+    // 12 (scaled again before pass 8, from the continued sums and the saved sequence).
+    auto balanced = [](int passes) {
+        RenderJob job = focus_job(passes);
+        job.options.adaptive_radius = false;
+        job.options.auto_radius = true;
+        return job;
+    };
+    RenderSession whole_session;
+    const Image whole = render_to_end(whole_session, balanced(12));
+    RenderSession first;
+    render_to_end(first, balanced(6));
+    AccumulationState saved;
+    ASSERT_TRUE(first.accumulation_state(saved));
+    EXPECT_NE(saved.scale2, 1.0);
+    const AccumulationState read =
+        decode_accumulation_state(encode_accumulation_state(saved), "state", saved.key.width, saved.key.height);
+    EXPECT_EQ(read.scale2, saved.scale2);
+    RenderSession second;
+    EXPECT_TRUE(same_bits(render_to_end(second, balanced(12), &read), whole));
+    RenderSession plain;
+    RenderJob fixed = balanced(12);
+    fixed.options.auto_radius = false;
+    EXPECT_FALSE(same_bits(render_to_end(plain, fixed), whole));
 }
 
 TEST(AccumulationState, ASessionRefusesAnotherJobsAccumulation) {

@@ -126,6 +126,20 @@ double mean_value(const Image& image) {
     return sum / (3.0 * static_cast<double>(image.pixels.size()));
 }
 
+/// Renders the accumulation `job` on 2 and 3 ranks: each makes `alone`, the image one process
+/// made with `alone_stats`, bit for bit, with its passes, samples and estimate.
+void expect_two_and_three_ranks_make(const RenderJob& job, const Image& alone, const RenderStats& alone_stats) {
+    for (int ranks : {2, 3}) {
+        const auto out = render_on_ranks(std::vector<RenderJob>(static_cast<std::size_t>(ranks), job));
+        ASSERT_TRUE(std::all_of(out.begin(), out.end(), [](const RankOutcome& o) { return o.completed && !o.failure; }))
+            << ranks << " ranks";
+        EXPECT_EQ(differing_pixels(out[0].image, alone), 0) << ranks << " ranks";
+        EXPECT_EQ(out[0].stats.accumulation.passes, job.options.passes);
+        EXPECT_EQ(out[0].stats.rays.samples, alone_stats.rays.samples);
+        EXPECT_EQ(out[0].stats.accumulation.error, alone_stats.accumulation.error);
+    }
+}
+
 }  // namespace
 
 TEST(Cluster, ProgressiveImageOnTwoAndThreeRanksIsOneProcesssBitForBit) {
@@ -162,14 +176,25 @@ TEST(Cluster, AdaptedRadiiOnTwoAndThreeRanksAreOneProcesssBitForBit) {
     RenderJob fixed = job;
     fixed.options.adaptive_radius = false;
     ASSERT_GT(differing_pixels(render_alone(fixed), alone), 0);  // the factors changed the image
-    for (int ranks : {2, 3}) {
-        const auto out = render_on_ranks(std::vector<RenderJob>(static_cast<std::size_t>(ranks), job));
-        ASSERT_TRUE(std::all_of(out.begin(), out.end(), [](const RankOutcome& o) { return o.completed && !o.failure; }))
-            << ranks << " ranks";
-        EXPECT_EQ(differing_pixels(out[0].image, alone), 0) << ranks << " ranks";
-        EXPECT_EQ(out[0].stats.accumulation.passes, 35);
-        EXPECT_EQ(out[0].stats.rays.samples, alone_stats.rays.samples);
-    }
+    expect_two_and_three_ranks_make(job, alone, alone_stats);
+}
+
+// With the balanced radius the whole sequence is scaled before passes 4, 8, 16 and 32 from the
+// estimate of every rank's sums: rounds of ranks end there (3 ranks: 0-2, 3, 4-6, 7, 8-10, ...),
+// every rank walks the sequence to the same pass before scaling it, and 2 and 3 ranks make one
+// process's bits.
+TEST(Cluster, BalancedRadiiOnTwoAndThreeRanksAreOneProcesssBitForBit) {
+    RenderJob job = caustic_box(IntegratorKind::progressive);
+    job.options.auto_radius = true;
+    job.options.passes = 35;
+    RenderStats alone_stats;
+    const Image alone = render_alone(job, &alone_stats);
+    RenderJob fixed = job;
+    fixed.options.auto_radius = false;
+    RenderStats fixed_stats;
+    ASSERT_GT(differing_pixels(render_alone(fixed, &fixed_stats), alone), 0);  // the scale changed the image
+    EXPECT_NE(fixed_stats.accumulation.radius, alone_stats.accumulation.radius);
+    expect_two_and_three_ranks_make(job, alone, alone_stats);
 }
 
 TEST(Cluster, ProgressiveStopRulesDecideAlikeOnEveryRank) {

@@ -163,6 +163,25 @@ TEST(Render, ReproducibleForOneThreeAndSevenThreads) {
     }
 }
 
+
+// The balanced radius scales the sequence from the estimate, whose sums are the same bits for any
+// thread count: so are the images.
+TEST(Render, BalancedRadiusIsReproducibleForOneAndThreeThreads) {
+    RenderJob job = caustica::testing::glass_and_mirror_balls_job();
+    job.options.integrator = IntegratorKind::progressive;
+    job.options.reproducible = true;
+    job.options.caustic_num_photons = 40'000;
+    job.options.passes = 17;  // scaled before passes 4, 8 and 16
+    job.options.auto_radius = true;
+    job.options.threads = 1;
+    const Image one = caustica::testing::render(job);
+    job.options.threads = 3;
+    const Image three = caustica::testing::render(job);
+    ASSERT_EQ(one.pixels.size(), three.pixels.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < one.pixels.size(); ++i) differing += one.pixels[i] != three.pixels[i];
+    EXPECT_EQ(differing, 0u);
+}
 TEST(Render, AntialiasingTouchesOnlyEdges) {
     JobBuilder b = lit_sphere({1, 1, 1});
     b.job.options.disable_aa = false;

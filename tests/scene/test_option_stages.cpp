@@ -78,6 +78,7 @@ const std::map<std::string, std::vector<std::string>>& other_values() {
         {"projection-map", {"--projection-map off"}},
         {"caustic-filter", {"--caustic-filter cone"}},
         {"adaptive-radius", {"--adaptive-radius on"}},
+        {"auto-radius", {"--auto-radius on"}},
         {"photon-split", {"--photon-split on"}},
         {"guided-emission", {"--guided-emission off"}},
         {"photons-per-pixel", {"--photons-per-pixel 2"}},

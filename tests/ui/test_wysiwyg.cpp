@@ -186,7 +186,7 @@ TEST(Wysiwyg, CommandLineReproducesThePersonsChoicesAndEachResets) {
     EXPECT_EQ(model.knobs().integrator, IntegratorKind::progressive);
 }
 
-// The progressive passes' own knobs (first radius, its shrink, radius per pixel, guided emission,
+// The progressive passes' own knobs (first radius, its shrink, balanced radius, radius per pixel, guided emission,
 // photon splitting, photons per pixel) reach the job, the copied command line and the differences,
 // and reset like the others.
 TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
@@ -198,12 +198,14 @@ TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
     CausticKnobs k = model.knobs();
     EXPECT_EQ(k.first_radius, 3.0);
     EXPECT_FALSE(k.adaptive_radius);
+    EXPECT_FALSE(k.auto_radius);
     EXPECT_TRUE(k.guided_emission);
     EXPECT_EQ(k.radius_alpha, 2.0 / 3.0);
     EXPECT_EQ(k.photons_per_pixel, 0.0);
     EXPECT_FALSE(k.photon_split);
     k.first_radius = 1.5;
     k.adaptive_radius = true;
+    k.auto_radius = true;
     k.guided_emission = false;
     k.radius_alpha = 0.9;
     k.photons_per_pixel = 0.25;
@@ -212,6 +214,7 @@ TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
     const Options shown = model.current_job().options;
     EXPECT_EQ(shown.accumulation_radius, 1.5);
     EXPECT_TRUE(shown.adaptive_radius);
+    EXPECT_TRUE(shown.auto_radius);
     EXPECT_FALSE(shown.guided_emission);
     EXPECT_EQ(shown.radius_alpha, 0.9);
     EXPECT_EQ(shown.photons_per_pixel, 0.25);
@@ -219,7 +222,7 @@ TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
     const std::vector<std::string> added = model.person_tokens();
     // In the panel's order.
     const std::vector<std::string> expected = {"--accumulation-radius", "1.5", "--radius-alpha", "0.9",
-                                               "--adaptive-radius", "on", "--guided-emission", "off",
+                                               "--auto-radius", "on", "--adaptive-radius", "on", "--guided-emission", "off",
                                                "--photon-split", "on", "--photons-per-pixel", "0.25"};
     ASSERT_GE(added.size(), expected.size());
     EXPECT_EQ(std::vector<std::string>(added.begin(), added.begin() + static_cast<std::ptrdiff_t>(expected.size())),
@@ -229,13 +232,14 @@ TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
     const Options render = render_options(scene, all);
     EXPECT_EQ(render.accumulation_radius, 1.5);
     EXPECT_TRUE(render.adaptive_radius);
+    EXPECT_TRUE(render.auto_radius);
     EXPECT_FALSE(render.guided_emission);
     EXPECT_EQ(render.radius_alpha, 0.9);
     EXPECT_EQ(render.photons_per_pixel, 0.25);
     EXPECT_TRUE(render.photon_split);
     std::vector<std::string> labels;
     for (const Difference& d : model.differences()) labels.push_back(d.label);
-    for (const char* label : {"first radius", "radius per pixel", "guided emission", "radius alpha",
+    for (const char* label : {"first radius", "balanced radius", "radius per pixel", "guided emission", "radius alpha",
                               "photons per pixel", "photon splitting"})
         EXPECT_NE(std::find(labels.begin(), labels.end(), label), labels.end()) << label;
     model.reset_difference("knob:" + std::to_string(static_cast<std::uint32_t>(KnobField::guided_emission)));
@@ -247,6 +251,7 @@ TEST(Wysiwyg, ProgressiveKnobsReachTheJobAndTheCommandLine) {
     model.reset_difference("all");
     EXPECT_EQ(model.current_job().options.accumulation_radius, 3.0);
     EXPECT_FALSE(model.current_job().options.adaptive_radius);
+    EXPECT_FALSE(model.current_job().options.auto_radius);
     EXPECT_EQ(model.current_job().options.radius_alpha, 2.0 / 3.0);
     EXPECT_FALSE(model.current_job().options.photon_split);
 }
