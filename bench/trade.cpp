@@ -86,6 +86,7 @@ Settings parse_arguments(int argc, char** argv) {
         else if (a == "--max-dist") s.run.max_dist = std::stod(value());
         else if (a == "--photon-split") s.run.split = true;
         else if (a == "--adaptive-radius") s.run.adaptive_radius = true;
+        else if (a == "--auto-radius") s.run.auto_radius = true;
         else if (a == "--guided-emission") {
             const std::string v = value();
             if (v != "on" && v != "off") throw std::runtime_error("--guided-emission expects on or off, not '" + v + "'");
@@ -104,7 +105,7 @@ Settings parse_arguments(int argc, char** argv) {
             std::printf("usage: trade [--quick] [--repeat K] [--scenes virtual_light,default,glass_of_liquid] "
                         "[--skip-stale] --out DIR\n       trade --make-references [--progressive] [--scenes ...]\n"
                         "       trade --progressive [--averaged-references] [--classic] [--tuned SCENE:RADIUS:PHOTONS:MAXDIST]... [--passes P] [--seconds S] "
-                        "[--photons X] [--radius PIXELS] [--max-dist D] [--photon-split] [--adaptive-radius] [--guided-emission on|off] [--photons-per-pixel K] [--scenes ...] --out DIR\n"
+                        "[--photons X] [--radius PIXELS] [--max-dist D] [--photon-split] [--adaptive-radius] [--auto-radius] [--guided-emission on|off] [--photons-per-pixel K] [--scenes ...] --out DIR\n"
                         "       trade --pass-time [--passes P]   (a progressive pass of default.lua at 1280x720)\n");
             std::exit(0);
         } else throw std::runtime_error("unknown argument '" + a + "' (see --help)");

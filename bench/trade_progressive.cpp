@@ -107,6 +107,7 @@ std::vector<ProgressivePoint> progressive_curve(const TradeScene& scene, const P
     if (run.max_dist > 0.0) job.options.caustic_max_dist = run.max_dist;
     if (run.split) job.options.photon_split = true;
     if (run.adaptive_radius) job.options.adaptive_radius = true;
+    if (run.auto_radius) job.options.auto_radius = true;
     if (run.guided_emission >= 0) job.options.guided_emission = run.guided_emission == 1;
     job.options.photons_per_pixel = run.photons_per_pixel;
     job.options.passes = 1;

@@ -18,6 +18,7 @@ struct ProgressiveRun {
     double max_dist = 0.0;  ///< cap of the first radius
     bool split = false;     ///< --photon-split on
     bool adaptive_radius = false;  ///< --adaptive-radius on
+    bool auto_radius = false;      ///< --auto-radius on
     int guided_emission = -1;      ///< --guided-emission: 1 on, 0 off, -1 the default
     double photons_per_pixel = 0.0;  ///< --photons-per-pixel K (0: the photons as given)
     int max_passes = 256;   ///< last checkpoint (a power of 2 or not: it is always measured)
