@@ -154,7 +154,7 @@ int render_frame(RenderSession& session, const RenderJob& job, const std::string
         } else {
             bar.update(p.tiles_total ? double(p.tiles_done) / double(p.tiles_total) : 0.0, p.elapsed_seconds, p.stage);
         }
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        session.wait_for_end(0.05);  // the bar and the interrupt every 50 ms, the end at once
     }
     bar.finish();
     const bool complete = session.wait();  // rethrows scene errors found while preparing

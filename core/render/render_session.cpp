@@ -326,13 +326,16 @@ void RenderSession::run() {
     } catch (...) {
         error_ = std::current_exception();
     }
-    std::lock_guard lock(mutex_);
-    progress_.running = false;
-    progress_.cancelled = cancel_requested_.load();
-    progress_.finished = !error_ && !progress_.cancelled;
-    progress_.elapsed_seconds = now_seconds() - start_time_;
-    stats_.total_seconds = progress_.elapsed_seconds;
-    running_ = false;
+    {
+        std::lock_guard lock(mutex_);
+        progress_.running = false;
+        progress_.cancelled = cancel_requested_.load();
+        progress_.finished = !error_ && !progress_.cancelled;
+        progress_.elapsed_seconds = now_seconds() - start_time_;
+        stats_.total_seconds = progress_.elapsed_seconds;
+        running_ = false;
+    }
+    ended_.notify_all();
 }
 
 void RenderSession::cancel() { cancel_requested_ = true; }
@@ -397,6 +400,12 @@ bool RenderSession::wait() {
     if (error_) std::rethrow_exception(error_);
     std::lock_guard lock(mutex_);
     return progress_.finished;
+}
+
+bool RenderSession::wait_for_end(double seconds) const {
+    std::unique_lock lock(mutex_);
+    return ended_.wait_for(lock, std::chrono::duration<double>(std::max(0.0, seconds)),
+                           [&] { return !progress_.running; });
 }
 
 SessionProgress RenderSession::progress() const {

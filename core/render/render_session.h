@@ -24,6 +24,7 @@
 #include <tbb/task_arena.h>
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <exception>
 #include <memory>
@@ -167,6 +168,10 @@ public:
     /// Waits for the background render. Returns true if it completed, false if cancelled.
     /// Rethrows an error raised while preparing or rendering.
     bool wait();
+    /// Waits until the render has ended (completed, cancelled or failed) or `seconds` have
+    /// passed, whichever comes first; returns whether it has ended (wait() then returns at once).
+    /// A front end's progress loop waits here instead of sleeping, so it sees the end at once.
+    bool wait_for_end(double seconds) const;
 
     /// Thread-safe snapshot of the progress.
     SessionProgress progress() const;
@@ -304,6 +309,7 @@ private:
     std::exception_ptr error_;
 
     mutable std::mutex mutex_;  // guards the fields below
+    mutable std::condition_variable ended_;  // notified when progress_.running turns false
     SessionProgress progress_;
     RenderStats stats_;
     StageCounters counters_;

@@ -5,10 +5,13 @@
 #include "core/scene/source_location.h"
 #include "tests/scene_test_helpers.h"
 #include "tests/test_support.h"
+#include "tests/time_bounds.h"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 using namespace caustica;
 using caustica::testing::JobBuilder;
@@ -216,6 +219,32 @@ TEST(Render, CancelStopsPromptlyAndReportsIt) {
     session.set_job(b.build());
     session.start();
     session.cancel();
+    EXPECT_FALSE(session.wait());
+    EXPECT_TRUE(session.progress().cancelled);
+}
+
+// The command line's progress loop waits on wait_for_end rather than sleeping: a render still
+// running is not ended when the wait times out, and the wait returns as the render ends (a cancel
+// from another thread here), long before its own timeout.
+TEST(Render, WaitForEndReturnsAsTheRenderEnds) {
+    JobBuilder b = lit_sphere({1, 1, 1});
+    RenderJob job = b.build();
+    job.options.integrator = IntegratorKind::progressive;
+    job.options.time_limit = 1e6;  // passes until cancelled
+    RenderSession session;
+    session.set_job(job);
+    EXPECT_TRUE(session.wait_for_end(0.0));  // nothing running yet
+    session.start();
+    EXPECT_FALSE(session.wait_for_end(0.05));
+    const auto start = std::chrono::steady_clock::now();
+    std::thread canceller([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        session.cancel();
+    });
+    EXPECT_TRUE(session.wait_for_end(600.0));
+    const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    canceller.join();
+    EXPECT_LT(waited, caustica::testing::time_bound(5.0));
     EXPECT_FALSE(session.wait());
     EXPECT_TRUE(session.progress().cancelled);
 }
