@@ -33,15 +33,16 @@
 # PP_NEIGHBOURS (8; no longer what sets the first radius), PP_RADIUS its first radius in pixel
 # footprints (--accumulation-radius; empty: the default), PP_PER_PIXEL its --photons-per-pixel
 # (empty: the directions as given), PP_AUTO_RADIUS its --auto-radius (on|off; empty: the default),
-# jittered samples (no --disable-aa); its own pixel-averaged reference is PP_REF_PASSES (512)
-# passes of PP_REF_PHOTONS from a first radius of PP_REF_RADIUS (1) pixel footprints, a third of
-# the default's blur at sharp edges (its own estimated error is in the report: errors below it are
-# not measurable). Cycles (<scene>_cycles.py,
-# cycles_common.py): CPU, THREADS threads, path tracing with shadow caustics (MNEE, mode "mnee")
-# and without ("path"), time-limited to each of CYCLES_TIMES (1 2 5 15 60) seconds; its
-# references (one per mode, CYCLES_REF_TIME = 600 s of sampling) are made when missing or out of
-# date (--cycles-references remakes them) and kept in OUT. CYCLES=0 leaves Cycles out; BLENDER
-# names the program (blender); CYCLES_LAMP_RADIUS (0.02) is the radius given to the point lights.
+# jittered samples (no --disable-aa); its own pixel-averaged reference is PP_REF_PASSES (512) passes
+# of PP_REF_PHOTONS from a first radius of PP_REF_RADIUS (1) pixel footprints, a third of the
+# default's blur at sharp edges (its own estimated error is in the report: errors below it are not
+# measurable; kept in OUT and made again when the binaries, the scene or these settings change).
+# Cycles (<scene>_cycles.py, cycles_common.py): CPU, THREADS threads, path tracing with shadow
+# caustics (MNEE, mode "mnee") and without ("path"), time-limited to each of CYCLES_TIMES (1 2 5 15
+# 60) seconds; its references (one per mode, CYCLES_REF_TIME = 600 s of sampling) are made when
+# missing or out of date (--cycles-references remakes them) and kept in OUT. CYCLES=0 leaves Cycles
+# out; BLENDER names the program (blender); CYCLES_LAMP_RADIUS (0.02) is the radius given to the
+# point lights.
 # Each renderer's error is against its own reference (as above) and all against caustica's
 # progressive reference (the "common" column: the others' biases show there), the median of the
 # repeats. Writes progressive.tsv, progressive-refs.tsv and progressive.md (the targets: POV-Ray's
@@ -212,6 +213,20 @@ cycles_reference() {
   cycles_run "$1" "$2" "$cycles_ref_time" 1000 "$prefix"
   echo "$key" >"$prefix.key"
   echo "   Cycles $2 reference: $(cycles_samples "$prefix") samples in $(cycles_seconds "$prefix") s ($(cat "$prefix.time") s wall)"
+}
+# caustica_reference SCENE PNG: caustica's progressive reference, made again only when the
+# binaries, the scene or the reference's settings differ from those it was made with (PNG.key).
+caustica_reference() {
+  local key
+  key="$pp_ref_passes passes of $pp_ref_photons from r1 $pp_ref_radius at $size, binaries and scene \
+$(cat "$build/caustica" "$build/caustica-scene-loader" "$here/$1.lua" | sha1sum | cut -c1-12)"
+  if [[ -s $2 && -f $2.key && -f $2.log && -f $2.time && $(cat "$2.key") == "$key" ]]; then
+    echo "   caustica reference kept (made in $(cat "$2.time") s)"
+    return
+  fi
+  rm -f "$2.key"
+  caustica_passes "$1" "$pp_ref_passes" "$pp_ref_photons" "$2" "$pp_ref_radius"
+  echo "$key" >"$2.key"
 }
 caustica_stored() { sed -n 's/.*caustic photons, light 1: .* \([0-9]*\) stored.*/\1/p' "$1.log"; }
 caustica_traced() { sed -n 's/.*caustic photons, light 1: .* \([0-9]*\) traced.*/\1/p' "$1.log"; }
@@ -431,7 +446,7 @@ measure_progressive() {
     prepare_scene "$scene"
     local ours_ref=$out/$scene-progressive-ref.png pov_ref=$out/$scene-povray-pref.png m
     local photons=${pp_photons:-${scene_pp_photons[$scene]}}
-    caustica_passes "$scene" "$pp_ref_passes" "$pp_ref_photons" "$ours_ref" "$pp_ref_radius"
+    caustica_reference "$scene" "$ours_ref"
     povray_run "$scene" "$(awk -v t="$reference" -v r="$pov_ratio" 'BEGIN { printf "%d", t / r }')" "$pov_ref"
     echo "   references: caustica $pp_ref_passes passes in $(cat "$ours_ref.time") s, POV-Ray $(povray_stored "$pov_ref") stored in $(cat "$pov_ref.time") s"
     for m in $cycles_modes; do cycles_reference "$scene" "$m"; done
