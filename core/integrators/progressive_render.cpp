@@ -24,22 +24,21 @@ namespace {
 /// "Progressive photon mapping").
 constexpr double grid_cell_factor = 3.0;
 
-/// The first pass after `pass` before which the pixels' radii are adapted (docs/CAUSTICS.md, "A
-/// radius per pixel"): 8, 32, 128, ... (the first after two passes in each replicate group, so
-/// that each pixel's noise and blur have been measured), or 0 past the sums' capacity.
-int adaptation_after(int pass) {
-    long long next = 2 * replicate_groups;
-    while (next <= pass) next *= 4;
+/// The first of first, first * ratio, first * ratio^2, ... after `pass`, or 0 past the sums' capacity.
+int next_update_after(int pass, long long first, int ratio) {
+    long long next = first;
+    while (next <= pass) next *= ratio;
     return next < max_accumulated_passes ? static_cast<int>(next) : 0;
 }
 
+/// The first pass after `pass` before which the pixels' radii are adapted (docs/CAUSTICS.md, "A
+/// radius per pixel"): 8, 32, 128, ... (the first after two passes in each replicate group, so
+/// that each pixel's noise and blur have been measured), or 0 past the sums' capacity.
+int adaptation_after(int pass) { return next_update_after(pass, 2 * replicate_groups, 4); }
+
 /// The first pass after `pass` before which --auto-radius scales the radii: 4, 8, 16, ... (from
 /// pass 4 every replicate group has a pass, and the estimate its noise from their spread).
-int balance_after(int pass) {
-    long long next = replicate_groups;
-    while (next <= pass) next *= 2;
-    return next < max_accumulated_passes ? static_cast<int>(next) : 0;
-}
+int balance_after(int pass) { return next_update_after(pass, replicate_groups, 2); }
 
 double now_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -211,8 +210,14 @@ void ProgressiveRender::adapt_radii(Cluster* cluster, const std::atomic<bool>& c
     std::memcpy(factors.data(), bytes.data(), bytes.size());
 }
 
-void ProgressiveRender::balance_radii(Cluster* cluster, const std::atomic<bool>& cancel, int pass, double alpha,
-                                      const RenderRegion& region) {
+void ProgressiveRender::walk_radius_sequence(int pass, double alpha) {
+    while (state_.scale_pass < pass) {  // the same sequence of roundings whichever rank walks it
+        state_.scale2 = next_radius2(state_.scale2, state_.scale_pass + 1, alpha);
+        ++state_.scale_pass;
+    }
+}
+
+void ProgressiveRender::balance_radii(const ErrorEstimate& e, int pass, double alpha) {
     // Pass i at r^2 s has s times the blur and 1/s times the variance of one at r^2 (a disc's blur
     // grows as r^2, its photon count too). With the estimate's noise n and blur b over the caustic
     // region, taken as if every pass so far had gathered at the present s, the passes so far err
@@ -222,13 +227,8 @@ void ProgressiveRender::balance_radii(Cluster* cluster, const std::atomic<bool>&
     // update (4, 8, 16, ...), so the updates settle where the whole accumulation is balanced. A
     // step grows r^2 by at most 2 (a blur read as 0 among the first passes' noise included) and
     // shrinks it by at most 16.
-    const ErrorEstimate e = cluster && cluster->size() > 1 ? combined_error(*cluster, cancel)
-                                                           : accumulator_.estimate_error(region);
     // Every rank walks the sequence to the same pass before scaling it: the same bits.
-    while (state_.scale_pass < pass) {
-        state_.scale2 = next_radius2(state_.scale2, state_.scale_pass + 1, alpha);
-        ++state_.scale_pass;
-    }
+    walk_radius_sequence(pass, alpha);
     if (!e.known || !(e.noise > 0.0)) return;
     constexpr double max_growth = 2.0, max_shrink = 16.0, max_scale2 = 16.0;
     const double balance = e.bias > 0.0 ? e.noise * e.noise / (2.0 * e.bias * e.bias) : max_growth * max_growth * max_growth;
@@ -317,10 +317,7 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         ProgressiveParams params;
     };
     auto pass_setup_for = [&](int p) {
-        while (acc.scale_pass < p) {  // the same sequence of roundings whichever rank walks it
-            acc.scale2 = next_radius2(acc.scale2, acc.scale_pass + 1, alpha);
-            ++acc.scale_pass;
-        }
+        walk_radius_sequence(p, alpha);
         PassShading pass{setup, ProgressiveParams::from(options)};
         pass.setup.caustic_map = nullptr;
         pass.params.caustic_grid = has_photons ? &grid_ : nullptr;
@@ -386,8 +383,17 @@ void ProgressiveRender::run(RenderHost& host, const ShadingSetup& setup, const T
         // 128, ... (a round with ranks ends there), from the sums of all the passes before; the
         // balanced radius's scale likewise, before pass 4, 8, 16, ...
         const bool adapting = options.adaptive_radius && has_photons, balancing = options.auto_radius && has_photons;
-        if (balancing && base > 0 && balance_after(base - 1) == base)
-            balance_radii(shared ? cluster : nullptr, cancel, base, alpha, region);
+        if (balancing && base > 0 && balance_after(base - 1) == base) {
+            // Alone, the estimate of the last round serves unless it was skipped; with ranks, every
+            // rank's sums are added for it.
+            if (shared) {
+                balance_radii(combined_error(*cluster, cancel), base, alpha);
+            } else {
+                if (estimate_stale) acc.error = accumulator_.estimate_error(region);
+                estimate_stale = false;
+                balance_radii(acc.error, base, alpha);
+            }
+        }
         if (adapting && base > 0 && adaptation_after(base - 1) == base) adapt_radii(shared ? cluster : nullptr, cancel);
         int round_end = base + ranks;
         if (const int next = adapting ? adaptation_after(base) : 0; next > 0) round_end = std::min(round_end, next);

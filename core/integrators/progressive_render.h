@@ -63,10 +63,11 @@ private:
         std::vector<std::int64_t> adapted_sums;  // the sums at the last update (rank 0's, with ranks)
     };
 
+    /// Walks the radius sequence (state_.scale2) on to pass `pass`.
+    void walk_radius_sequence(int pass, double alpha);
     /// --auto-radius: before pass `pass`, scales the radius sequence from there on so that the
-    /// blur and the noise of the estimate from every rank's sums balance (a collective with ranks).
-    void balance_radii(Cluster* cluster, const std::atomic<bool>& cancel, int pass, double alpha,
-                       const RenderRegion& region);
+    /// blur and the noise of `e`, the estimate of every rank's sums, balance.
+    void balance_radii(const ErrorEstimate& e, int pass, double alpha);
     /// Updates the radius factors from every rank's sums (a collective with ranks).
     void adapt_radii(Cluster* cluster, const std::atomic<bool>& cancel);
 
